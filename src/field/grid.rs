@@ -1,0 +1,245 @@
+//! A tensor field on a regular grid over a rectangular domain in pixel coordinates, with
+//! bilinear component-wise interpolation (paper section 3).
+//!
+//! Coordinates: x to the right, y down, the domain is `[0, width] × [0, height]` in pixels.
+//! Grid node `(c, r)` sits at `((c + 0.5)·spacing, (r + 0.5)·spacing)`, so with `spacing = 1`
+//! node `(c, r)` is the centre of pixel `(c, r)`. A coarser spacing lets a field computed at an
+//! analysis resolution cover a larger photo. Outside the outermost node centres the field is
+//! clamped (constant extension). Components are stored as `f32` triples `(t11, t12, t22)`,
+//! row-major, which is also the `.npy` layout `(H, W, 3)`.
+
+use super::tensor::Tensor;
+use glam::DVec2;
+
+/// A symmetric tensor per grid node over a rectangular pixel domain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TensorField {
+    cols: usize,
+    rows: usize,
+    spacing: f64,
+    domain: DVec2,
+    data: Vec<[f32; 3]>,
+}
+
+impl TensorField {
+    /// A field of `cols × rows` nodes with one node per pixel (`spacing = 1`).
+    ///
+    /// # Panics
+    /// If `data.len() != cols·rows` or either size is zero (a programming error: inputs are
+    /// validated before a field is built).
+    #[must_use]
+    pub fn new(cols: usize, rows: usize, data: Vec<[f32; 3]>) -> Self {
+        Self::with_spacing(cols, rows, 1.0, (cols as f64, rows as f64), data)
+    }
+
+    /// A field of `cols × rows` nodes `spacing` pixels apart over a domain of `domain` pixels
+    /// (`domain ≈ nodes · spacing`; it may be a little smaller when a photo's size is not a
+    /// multiple of the spacing).
+    ///
+    /// # Panics
+    /// If `data.len() != cols·rows`, a size is zero or the spacing is not positive.
+    #[must_use]
+    pub fn with_spacing(
+        cols: usize,
+        rows: usize,
+        spacing: f64,
+        domain: (f64, f64),
+        data: Vec<[f32; 3]>,
+    ) -> Self {
+        assert!(cols > 0 && rows > 0, "empty tensor field");
+        assert_eq!(data.len(), cols * rows, "tensor field data length");
+        assert!(spacing > 0.0, "grid spacing must be positive");
+        TensorField {
+            cols,
+            rows,
+            spacing,
+            domain: DVec2::new(domain.0, domain.1),
+            data,
+        }
+    }
+
+    /// A field of one tensor everywhere, one node per pixel.
+    #[must_use]
+    pub fn constant(width: usize, height: usize, t: Tensor) -> Self {
+        Self::new(width, height, vec![t.to_f32(); width * height])
+    }
+
+    /// A field built from a function of the node position in pixels, one node per pixel,
+    /// evaluated in parallel.
+    #[must_use]
+    pub fn from_fn(width: usize, height: usize, f: impl Fn(DVec2) -> Tensor + Sync) -> Self {
+        use rayon::prelude::*;
+        let mut data = vec![[0.0f32; 3]; width * height];
+        data.par_chunks_mut(width).enumerate().for_each(|(r, row)| {
+            for (c, out) in row.iter_mut().enumerate() {
+                *out = f(DVec2::new(c as f64 + 0.5, r as f64 + 0.5)).to_f32();
+            }
+        });
+        Self::new(width, height, data)
+    }
+
+    /// Number of grid columns.
+    #[must_use]
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// Number of grid rows.
+    #[must_use]
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Distance between grid nodes in pixels.
+    #[must_use]
+    pub fn spacing(&self) -> f64 {
+        self.spacing
+    }
+
+    /// Size of the domain in pixels `(width, height)`.
+    #[must_use]
+    pub fn domain(&self) -> DVec2 {
+        self.domain
+    }
+
+    /// Diagonal of the domain in pixels.
+    #[must_use]
+    pub fn diagonal(&self) -> f64 {
+        self.domain.length()
+    }
+
+    /// Row-major node values `(t11, t12, t22)`.
+    #[must_use]
+    pub fn data(&self) -> &[[f32; 3]] {
+        &self.data
+    }
+
+    /// Mutable row-major node values.
+    pub fn data_mut(&mut self) -> &mut [[f32; 3]] {
+        &mut self.data
+    }
+
+    /// The tensor stored at node `(c, r)`.
+    #[must_use]
+    pub fn node(&self, c: usize, r: usize) -> Tensor {
+        Tensor::from_f32(self.data[r * self.cols + c])
+    }
+
+    /// Position of node `(c, r)` in pixels.
+    #[must_use]
+    pub fn node_position(&self, c: usize, r: usize) -> DVec2 {
+        DVec2::new(c as f64 + 0.5, r as f64 + 0.5) * self.spacing
+    }
+
+    /// Bilinear component-wise interpolation at `p` (pixels), clamped at the border.
+    /// A non-finite `p` is treated as the domain's origin.
+    #[must_use]
+    pub fn sample(&self, p: DVec2) -> Tensor {
+        let (c0, c1, tx) = axis_weights(p.x / self.spacing, self.cols);
+        let (r0, r1, ty) = axis_weights(p.y / self.spacing, self.rows);
+        let at = |c: usize, r: usize| self.data[r * self.cols + c];
+        let lerp3 = |a: [f32; 3], b: [f32; 3], t: f64| {
+            [
+                f64::from(a[0]) + (f64::from(b[0]) - f64::from(a[0])) * t,
+                f64::from(a[1]) + (f64::from(b[1]) - f64::from(a[1])) * t,
+                f64::from(a[2]) + (f64::from(b[2]) - f64::from(a[2])) * t,
+            ]
+        };
+        let top = lerp3(at(c0, r0), at(c1, r0), tx);
+        let bottom = lerp3(at(c0, r1), at(c1, r1), tx);
+        Tensor::new(
+            top[0] + (bottom[0] - top[0]) * ty,
+            top[1] + (bottom[1] - top[1]) * ty,
+            top[2] + (bottom[2] - top[2]) * ty,
+        )
+    }
+
+    /// The same field resampled to one node per pixel of a `width × height` domain (used to
+    /// write a field computed at analysis resolution at the photo's own size).
+    #[must_use]
+    pub fn resampled(&self, width: usize, height: usize) -> TensorField {
+        if self.spacing == 1.0 && self.cols == width && self.rows == height {
+            return self.clone();
+        }
+        let sx = self.domain.x / width as f64;
+        let sy = self.domain.y / height as f64;
+        let mut out = Self::from_fn(width, height, |p| {
+            self.sample(DVec2::new(p.x * sx, p.y * sy))
+        });
+        out.domain = DVec2::new(width as f64, height as f64);
+        out
+    }
+
+    /// The first node (column, row) whose tensor fails `ok`, scanning row by row.
+    #[must_use]
+    pub fn first_node_where(&self, bad: impl Fn(Tensor) -> bool) -> Option<(usize, usize)> {
+        self.data
+            .iter()
+            .position(|&c| bad(Tensor::from_f32(c)))
+            .map(|i| (i % self.cols, i / self.cols))
+    }
+}
+
+/// Lower node, upper node and weight of the upper node for a continuous grid coordinate
+/// `u` (in node units, node `i` at `i + 0.5`), clamped to `[0, n − 1]`.
+fn axis_weights(u: f64, n: usize) -> (usize, usize, f64) {
+    let t = u - 0.5;
+    let max = (n - 1) as f64;
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, max) };
+    let i0 = (t.floor() as usize).min(n - 1);
+    let i1 = (i0 + 1).min(n - 1);
+    (i0, i1, t - i0 as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn linear(p: DVec2) -> Tensor {
+        Tensor::new(
+            1.0 + 0.5 * p.x - 0.25 * p.y,
+            0.125 * p.x + 0.5 * p.y,
+            3.0 - p.x + 2.0 * p.y,
+        )
+    }
+
+    proptest! {
+        #[test]
+        fn linear_field_is_reproduced(x in 0.5..62.5f64, y in 0.5..40.5f64) {
+            let field = TensorField::from_fn(63, 41, linear);
+            let got = field.sample(DVec2::new(x, y));
+            let want = linear(DVec2::new(x, y));
+            // f32 storage: relative 1e-6 of the component magnitude.
+            for (g, w) in [(got.xx, want.xx), (got.xy, want.xy), (got.yy, want.yy)] {
+                prop_assert!((g - w).abs() <= 2e-6 * (1.0 + w.abs()), "{got:?} vs {want:?}");
+            }
+        }
+
+        #[test]
+        fn linear_field_with_spacing_is_reproduced(x in 2.0..60.0f64, y in 2.0..40.0f64) {
+            let (cols, rows, s) = (16, 11, 4.0);
+            let mut data = Vec::new();
+            for r in 0..rows {
+                for c in 0..cols {
+                    data.push(linear(DVec2::new((c as f64 + 0.5) * s, (r as f64 + 0.5) * s)).to_f32());
+                }
+            }
+            let field = TensorField::with_spacing(cols, rows, s, (64.0, 44.0), data);
+            let got = field.sample(DVec2::new(x, y));
+            let want = linear(DVec2::new(x, y));
+            prop_assert!((got.xx - want.xx).abs() <= 1e-5 * (1.0 + want.xx.abs()));
+            prop_assert!((got.yy - want.yy).abs() <= 1e-5 * (1.0 + want.yy.abs()));
+        }
+    }
+
+    #[test]
+    fn clamped_outside_and_nan_safe() {
+        let field = TensorField::from_fn(4, 3, linear);
+        assert_eq!(field.sample(DVec2::new(-10.0, -10.0)), field.node(0, 0));
+        assert_eq!(field.sample(DVec2::new(100.0, 100.0)), field.node(3, 2));
+        assert_eq!(field.sample(DVec2::new(f64::NAN, 0.0)), field.node(0, 0));
+        let one = TensorField::constant(1, 1, Tensor::isotropic(2.0));
+        assert_eq!(one.sample(DVec2::new(0.7, 0.2)), Tensor::isotropic(2.0));
+    }
+}

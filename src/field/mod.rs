@@ -1,0 +1,227 @@
+//! The first stage: any input becomes a metric, the field of ellipses the sampler packs
+//! (paper sections 3 and 4).
+//!
+//! - [`tensor`]: the symmetric 2x2 tensor and its eigen-decomposition;
+//! - [`grid`]: a tensor field on a regular grid with bilinear interpolation;
+//! - [`blur`]: the parallel Gaussian blur behind the structure tensor;
+//! - [`structure`]: the colour structure tensor of a photo at analysis resolution;
+//! - [`metric`]: structure tensor → metric, and the anti-symmetric mapping of general tensors;
+//! - [`analytic`]: named analytic fields.
+//!
+//! [`load_field`] ties them together for a photo, a `.npy` file or an analytic spec.
+
+pub mod analytic;
+pub mod blur;
+pub mod grid;
+pub mod metric;
+pub mod structure;
+pub mod tensor;
+
+pub use analytic::AnalyticField;
+pub use grid::TensorField;
+pub use metric::{MappingParams, MetricParams};
+pub use tensor::{Eigen, Tensor};
+
+use crate::error::{Error, Result};
+use image::DynamicImage;
+use std::path::{Path, PathBuf};
+
+/// What the user named as input.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Input {
+    /// A photo (PNG, JPEG, TIFF, WebP), recognised by content.
+    Photo(PathBuf),
+    /// A `.npy` tensor field `(H, W, 3)`.
+    Npy(PathBuf),
+    /// `analytic:NAME[:key=value,...]`.
+    Analytic(AnalyticField),
+}
+
+impl Input {
+    /// Classifies a command-line argument: `analytic:…`, a `.npy` path, or a photo path.
+    pub fn parse(arg: &str) -> Result<Input> {
+        if let Some(spec) = arg.strip_prefix("analytic:") {
+            return Ok(Input::Analytic(AnalyticField::parse(spec)?));
+        }
+        let path = PathBuf::from(arg);
+        let is_npy = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+        Ok(if is_npy {
+            Input::Npy(path)
+        } else {
+            Input::Photo(path)
+        })
+    }
+
+    /// A short name for messages and output names: the file stem or the analytic name.
+    #[must_use]
+    pub fn stem(&self) -> String {
+        match self {
+            Input::Photo(p) | Input::Npy(p) => p
+                .file_stem()
+                .map_or_else(|| "input".into(), |s| s.to_string_lossy().into_owned()),
+            Input::Analytic(a) => a.name().to_string(),
+        }
+    }
+}
+
+/// How to read a tensor field from a file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TensorKind {
+    /// A metric if every tensor is positive definite, a general tensor otherwise.
+    #[default]
+    Auto,
+    /// Already a metric: used as is; a tensor that is not positive definite is an error.
+    Metric,
+    /// A general symmetric tensor, mapped by the anti-symmetric mapping.
+    General,
+}
+
+/// Everything that decides how an input becomes a metric.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FieldOptions {
+    /// Photo → metric parameters.
+    pub metric: MetricParams,
+    /// General tensor → metric parameters.
+    pub mapping: MappingParams,
+    /// How to read `.npy` files.
+    pub tensor_kind: TensorKind,
+    /// Domain size of analytic fields in pixels; `None` is 512x512.
+    pub analytic_size: Option<(usize, usize)>,
+}
+
+/// An input turned into a metric.
+#[derive(Clone, Debug)]
+pub struct LoadedField {
+    /// The metric: ellipse semi-axes in pixels.
+    pub metric: TensorField,
+    /// What the metric was made from: the structure tensor of a photo, or the tensor field as
+    /// read or generated.
+    pub raw: TensorField,
+    /// The photo, for previews and rendering.
+    pub photo: Option<DynamicImage>,
+}
+
+/// Default domain of analytic fields.
+pub const DEFAULT_ANALYTIC_SIZE: (usize, usize) = (512, 512);
+
+/// Reads or generates the input and derives its metric.
+pub fn load_field(input: &Input, options: &FieldOptions) -> Result<LoadedField> {
+    options.metric.validate()?;
+    validate_mapping(&options.mapping)?;
+    match input {
+        Input::Photo(path) => {
+            let photo = crate::io::read_photo(path)?;
+            let (raw, metric) = photo_metric(&photo, &options.metric);
+            Ok(LoadedField {
+                metric,
+                raw,
+                photo: Some(photo),
+            })
+        }
+        Input::Npy(path) => {
+            let raw = crate::io::read_npy(path)?;
+            let metric = tensor_file_metric(path, &raw, options)?;
+            Ok(LoadedField {
+                metric,
+                raw,
+                photo: None,
+            })
+        }
+        Input::Analytic(a) => {
+            let (w, h) = options.analytic_size.unwrap_or(DEFAULT_ANALYTIC_SIZE);
+            if w == 0 || h == 0 || (w as u64) * (h as u64) > crate::io::MAX_PIXELS {
+                return Err(Error::param(
+                    "size",
+                    format!(
+                        "{w}x{h} must be non-empty and at most {} pixels",
+                        crate::io::MAX_PIXELS
+                    ),
+                ));
+            }
+            let raw = a.field(w, h);
+            let metric = if a.is_metric() {
+                raw.clone()
+            } else {
+                metric::metric_from_general(&raw, &options.mapping)
+            };
+            Ok(LoadedField {
+                metric,
+                raw,
+                photo: None,
+            })
+        }
+    }
+}
+
+/// The structure tensor of `photo` and the metric derived from it (`params` must be valid).
+#[must_use]
+pub fn photo_metric(photo: &DynamicImage, params: &MetricParams) -> (TensorField, TensorField) {
+    let raw = photo_structure_tensor(photo, params);
+    let metric = metric::metric_from_structure(&raw, params);
+    (raw, metric)
+}
+
+/// The structure tensor of `photo` at analysis resolution, as a field over the photo's pixels.
+#[must_use]
+pub fn photo_structure_tensor(photo: &DynamicImage, params: &MetricParams) -> TensorField {
+    let (w, h) = (photo.width() as usize, photo.height() as usize);
+    let factor = structure::analysis_factor(w, h, params.analysis_diagonal);
+    let lin = structure::linear_analysis_image(photo, factor);
+    let diag = ((lin.width * lin.width + lin.height * lin.height) as f64).sqrt();
+    let j = structure::structure_tensor(
+        &lin,
+        (params.noise_sigma * diag) as f32,
+        (params.integration_sigma * diag) as f32,
+    );
+    TensorField::with_spacing(
+        lin.width,
+        lin.height,
+        factor as f64,
+        (w as f64, h as f64),
+        j,
+    )
+}
+
+fn validate_mapping(p: &MappingParams) -> Result<()> {
+    if !(p.base_size > 0.0 && p.base_size < 1.0) {
+        return Err(Error::param(
+            "mapping.base_size",
+            format!("{} must be in (0, 1)", p.base_size),
+        ));
+    }
+    if !(p.kappa >= 0.0 && p.kappa <= 10.0) {
+        return Err(Error::param(
+            "mapping.kappa",
+            format!("{} must be in [0, 10]", p.kappa),
+        ));
+    }
+    Ok(())
+}
+
+/// The metric of a tensor read from a file, according to [`TensorKind`].
+fn tensor_file_metric(
+    path: &Path,
+    raw: &TensorField,
+    options: &FieldOptions,
+) -> Result<TensorField> {
+    let not_pd = |t: Tensor| !t.is_positive_definite();
+    let first_bad = raw.first_node_where(not_pd);
+    match (options.tensor_kind, first_bad) {
+        (TensorKind::Metric, Some((x, y))) => {
+            let e = raw.node(x, y).eigen();
+            Err(Error::NotPositiveDefinite {
+                path: path.into(),
+                x,
+                y,
+                l1: e.l1,
+                l2: e.l2,
+            })
+        }
+        (TensorKind::Metric, None) | (TensorKind::Auto, None) => Ok(raw.clone()),
+        (TensorKind::General, _) | (TensorKind::Auto, Some(_)) => {
+            Ok(metric::metric_from_general(raw, &options.mapping))
+        }
+    }
+}

@@ -1,0 +1,250 @@
+//! Reading inputs and writing outputs safely: photos (with a pixel limit against decompression
+//! bombs, EXIF orientation applied), `.npy` tensor fields `(H, W, 3)` of float32/float64, and
+//! atomic writes (temporary file in the target folder, then rename) so that no half-written
+//! output is ever left behind.
+
+use crate::error::{Error, Result};
+use crate::field::{Tensor, TensorField};
+use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
+use npyz::WriterBuilder;
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::Path;
+
+/// Largest photo or field we accept, in pixels (width × height): 150 megapixels. A larger
+/// image is refused before it is decoded.
+pub const MAX_PIXELS: u64 = 150_000_000;
+
+/// Largest side of a photo we accept, in pixels.
+pub const MAX_SIDE: u32 = 1 << 16;
+
+/// Decodes a photo, refusing images over [`MAX_PIXELS`] before any pixel is decoded, and
+/// applies its EXIF orientation. The format is read from the file's content, not its name.
+pub fn read_photo(path: &Path) -> Result<DynamicImage> {
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let decode_err = |e: image::ImageError| match e {
+        image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            Error::Decode {
+                path: path.into(),
+                reason: "truncated (unexpected end of file)".into(),
+            }
+        }
+        image::ImageError::IoError(io) => Error::io(path, io),
+        image::ImageError::Limits(l) => Error::Decode {
+            path: path.into(),
+            reason: format!("over the memory limit ({l})"),
+        },
+        other => Error::Decode {
+            path: path.into(),
+            reason: other.to_string(),
+        },
+    };
+    let mut reader = ImageReader::new(BufReader::new(file))
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, e))?;
+    if reader.format().is_none() {
+        return Err(Error::Decode {
+            path: path.into(),
+            reason: "not a PNG, JPEG, TIFF or WebP image".into(),
+        });
+    }
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    limits.max_alloc = Some(MAX_PIXELS * 8);
+    reader.limits(limits);
+    let mut decoder = reader.into_decoder().map_err(decode_err)?;
+    let (w, h) = decoder.dimensions();
+    check_size(path, u64::from(w), u64::from(h))?;
+    let orientation = decoder.orientation().map_err(decode_err)?;
+    let mut img = DynamicImage::from_decoder(decoder).map_err(decode_err)?;
+    img.apply_orientation(orientation);
+    Ok(img)
+}
+
+fn check_size(path: &Path, width: u64, height: u64) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::EmptyImage {
+            path: path.into(),
+            width,
+            height,
+        });
+    }
+    if width.saturating_mul(height) > MAX_PIXELS {
+        return Err(Error::TooLarge {
+            path: path.into(),
+            width,
+            height,
+            limit: MAX_PIXELS,
+        });
+    }
+    Ok(())
+}
+
+/// Reads a tensor field `(H, W, 3)` of `(t11, t12, t22)`, float32 or float64, C or Fortran
+/// order. Every value must be finite; the first bad pixel is named otherwise.
+pub fn read_npy(path: &Path) -> Result<TensorField> {
+    let npy_err = |reason: String| Error::Npy {
+        path: path.into(),
+        reason,
+    };
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let npy =
+        npyz::NpyFile::new(&bytes[..]).map_err(|e| npy_err(format!("not a .npy file: {e}")))?;
+    let shape = npy.shape().to_vec();
+    let (h, w) = match shape[..] {
+        [h, w, 3] => (h, w),
+        _ => {
+            return Err(npy_err(format!(
+                "shape {shape:?} is not (H, W, 3) of (t11, t12, t22)"
+            )))
+        }
+    };
+    check_size(path, w, h)?;
+    let type_str = match npy.dtype() {
+        npyz::DType::Plain(t) => t,
+        other => {
+            return Err(npy_err(format!(
+                "dtype {} is not float32 or float64",
+                other.descr()
+            )))
+        }
+    };
+    let bytes_per = match (type_str.type_char(), type_str.size_field()) {
+        (npyz::TypeChar::Float, 4) => 4,
+        (npyz::TypeChar::Float, 8) => 8,
+        _ => {
+            return Err(npy_err(format!(
+                "dtype {type_str} is not float32 or float64"
+            )))
+        }
+    };
+    let count = (h * w * 3) as usize;
+    // The header is at least 10 bytes; a file shorter than header + data is truncated, and
+    // checking first keeps a lying header from making us allocate for data that isn't there.
+    if (bytes.len() as u64) < (count * bytes_per) as u64 + 10 {
+        return Err(truncated(path, &shape, count * bytes_per));
+    }
+    let fortran = npy.order() == npyz::Order::Fortran;
+    let data_err = |e: std::io::Error| {
+        if e.kind() == std::io::ErrorKind::UnexpectedEof {
+            truncated(path, &shape, count * bytes_per)
+        } else {
+            npy_err(format!("cannot read data: {e}"))
+        }
+    };
+    let values: Vec<f64> = if bytes_per == 4 {
+        let v: Vec<f32> = npy.into_vec().map_err(data_err)?;
+        v.into_iter().map(f64::from).collect()
+    } else {
+        npy.into_vec().map_err(data_err)?
+    };
+    if values.len() != count {
+        return Err(npy_err(format!(
+            "holds {} values, expected {count}",
+            values.len()
+        )));
+    }
+    let (h, w) = (h as usize, w as usize);
+    let at = |r: usize, c: usize, k: usize| {
+        if fortran {
+            values[r + h * (c + w * k)]
+        } else {
+            values[(r * w + c) * 3 + k]
+        }
+    };
+    let mut data = Vec::with_capacity(w * h);
+    for r in 0..h {
+        for c in 0..w {
+            let t = [at(r, c, 0), at(r, c, 1), at(r, c, 2)];
+            if t.iter()
+                .any(|v| !v.is_finite() || v.abs() > f64::from(f32::MAX))
+            {
+                return Err(Error::NonFinite {
+                    path: path.into(),
+                    x: c,
+                    y: r,
+                });
+            }
+            data.push(Tensor::new(t[0], t[1], t[2]).to_f32());
+        }
+    }
+    Ok(TensorField::new(w, h, data))
+}
+
+fn truncated(path: &Path, shape: &[u64], data_bytes: usize) -> Error {
+    Error::Npy {
+        path: path.into(),
+        reason: format!("truncated: shape {shape:?} needs {data_bytes} bytes of data"),
+    }
+}
+
+/// Writes `field` as float32 `(rows, cols, 3)` `.npy`, atomically.
+pub fn write_npy(path: &Path, field: &TensorField) -> Result<()> {
+    write_atomic(path, |w| {
+        let shape = [field.rows() as u64, field.cols() as u64, 3];
+        let mut writer = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&shape)
+            .writer(w)
+            .begin_nd()?;
+        writer.extend(field.data().iter().flatten().copied())?;
+        writer.finish()
+    })
+}
+
+/// Runs `write` on a buffered temporary file beside `path`, then renames it to `path`. On
+/// any error the temporary file is removed and `path` is untouched.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&mut File>) -> std::io::Result<()>,
+) -> Result<()> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".anisopaint-").suffix(".partial");
+    #[cfg(unix)]
+    {
+        // Ordinary file permissions (the umask applies), not tempfile's private 0600.
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e))?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        write(&mut w).map_err(|e| Error::io(path, e))?;
+        w.flush().map_err(|e| Error::io(path, e))?;
+    }
+    tmp.persist(path).map_err(|e| Error::io(path, e.error))?;
+    Ok(())
+}
+
+/// Encodes `img` to `path` atomically; the format follows the extension (PNG when unknown).
+pub fn save_image(path: &Path, img: &DynamicImage) -> Result<()> {
+    let format = image::ImageFormat::from_path(path).unwrap_or(image::ImageFormat::Png);
+    let converted;
+    let img = if format == image::ImageFormat::Jpeg && !matches!(img, DynamicImage::ImageRgb8(_)) {
+        // JPEG holds 8-bit RGB only.
+        converted = DynamicImage::ImageRgb8(img.to_rgb8());
+        &converted
+    } else {
+        img
+    };
+    let mut encode_error = None;
+    let result = write_atomic(path, |w| {
+        img.write_to(w, format).map_err(|e| {
+            let msg = e.to_string();
+            encode_error = Some(msg.clone());
+            std::io::Error::other(msg)
+        })
+    });
+    match (result, encode_error) {
+        (Err(_), Some(reason)) => Err(Error::Encode {
+            path: path.into(),
+            reason,
+        }),
+        (r, _) => r,
+    }
+}

@@ -1,0 +1,18 @@
+//! anisopaint turns photographs and 2-D tensor fields into painterly images by particle-based
+//! anisotropic sampling (Kratz, Meyer, Hotz: "Particle-Based Anisotropic Sampling for
+//! Two-Dimensional Tensor Field Visualization").
+//!
+//! The data flows through the modules in order: [`field`] (tensors, structure tensor, metric)
+//! → sampling → [`render`] → styles → [`cli`]. [`io`] reads inputs and writes outputs
+//! atomically; [`error`] is the one error type.
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod error;
+pub mod field;
+pub mod io;
+pub mod render;
+
+pub use error::{Error, Result};
