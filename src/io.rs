@@ -193,6 +193,35 @@ pub fn write_npy(path: &Path, field: &TensorField) -> Result<()> {
     })
 }
 
+/// Writes samples as CSV `x,y,m11,m12,m22` (pixels), one row per sample, atomically.
+pub fn write_samples_csv(path: &Path, positions: &[glam::DVec2], metrics: &[Tensor]) -> Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "x,y,m11,m12,m22")?;
+        for (p, m) in positions.iter().zip(metrics) {
+            writeln!(w, "{},{},{},{},{}", p.x, p.y, m.xx, m.xy, m.yy)?;
+        }
+        Ok(())
+    })
+}
+
+/// Writes triangles as CSV `a,b,c` (row indices of the samples file), atomically. Each is
+/// counter-clockwise in the mathematical sense: `(b − a) × (c − a) > 0` in pixel coordinates
+/// (so clockwise as seen on screen, where y points down).
+pub fn write_triangles_csv(path: &Path, triangles: impl Iterator<Item = [u32; 3]>) -> Result<()> {
+    write_atomic(path, |w| {
+        writeln!(w, "a,b,c")?;
+        for [a, b, c] in triangles {
+            writeln!(w, "{a},{b},{c}")?;
+        }
+        Ok(())
+    })
+}
+
+/// Writes `text` to `path` atomically.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    write_atomic(path, |w| w.write_all(text.as_bytes()))
+}
+
 /// Runs `write` on a buffered temporary file beside `path`, then renames it to `path`. On
 /// any error the temporary file is removed and `path` is untouched.
 pub fn write_atomic(

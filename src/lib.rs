@@ -3,7 +3,8 @@
 //! Two-Dimensional Tensor Field Visualization").
 //!
 //! The data flows through the modules in order: [`field`] (tensors, structure tensor, metric)
-//! → sampling → [`render`] → styles → [`cli`]. [`io`] reads inputs and writes outputs
+//! → [`sampling`] (seeding, forces, anisotropic Delaunay, population
+//! control, quality) → [`render`] → styles → [`cli`]. [`io`] reads inputs and writes outputs
 //! atomically; [`error`] is the one error type.
 
 #![forbid(unsafe_code)]
@@ -14,5 +15,6 @@ pub mod error;
 pub mod field;
 pub mod io;
 pub mod render;
+pub mod sampling;
 
 pub use error::{Error, Result};

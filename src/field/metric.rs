@@ -10,7 +10,9 @@
 //! - the anisotropy `a/b` grows with coherence `(λ1 − λ2)/(λ1 + λ2)` up to `max_anisotropy`;
 //! - section 3 asks that neighbouring samples differ little: the size map is limited to grow at
 //!   most `gradation` pixels per pixel (so two touching ellipses differ by at most a factor of
-//!   about `1 + 2·gradation`), then both maps are smoothed.
+//!   about `1 + 2·gradation`), both maps are smoothed, and finally the metric itself is smoothed
+//!   with a σ proportional to each ellipse's own radius, so its orientation does not turn within
+//!   one ellipse (without this last step photos' packings overlap several times more).
 //!
 //! General symmetric tensors (stress, with negative eigenvalues) become a metric by the
 //! anti-symmetric mapping of [HFH*04]: eigenvectors kept, each eigenvalue λ mapped to the
@@ -44,6 +46,9 @@ pub struct MetricParams {
     pub gradation: f64,
     /// σ of the final smoothing of the size and anisotropy maps (fraction of the diagonal).
     pub smoothing: f64,
+    /// σ of the final smoothing of the metric as a multiple of each ellipse's mean radius
+    /// `√(ab)`, so neighbouring samples see nearly the same ellipse (0 disables it).
+    pub ellipse_smoothing: f64,
     /// Longest diagonal, in pixels, of the analysis image (0: always full resolution).
     pub analysis_diagonal: usize,
 }
@@ -60,6 +65,7 @@ impl Default for MetricParams {
             detail_gamma: 0.7,
             gradation: 0.25,
             smoothing: 0.003,
+            ellipse_smoothing: 1.25,
             analysis_diagonal: 1536,
         }
     }
@@ -180,8 +186,85 @@ pub fn metric_from_structure(j: &TensorField, params: &MetricParams) -> TensorFi
             Tensor::from_eigen(e.angle + std::f64::consts::FRAC_PI_2, a, b).to_f32()
         })
         .collect();
+    let data = smooth_by_size(&data, cols, rows, params.ellipse_smoothing / spacing);
     let d = j.domain();
     TensorField::with_spacing(cols, rows, spacing, (d.x, d.y), data)
+}
+
+/// Smooths a metric component-wise with a Gaussian whose σ at each node is `factor·√det m`
+/// (the ellipse's mean radius, in nodes when `factor` includes 1/spacing), so that a sample's
+/// neighbours see nearly the same ellipse (paper section 3). Uses a Gaussian pyramid (blur
+/// σ = 1, then halve) and blends the two levels whose σ bracket the wanted one.
+fn smooth_by_size(data: &[[f32; 3]], cols: usize, rows: usize, factor: f64) -> Vec<[f32; 3]> {
+    if factor <= 0.0 {
+        return data.to_vec();
+    }
+    let flat: Vec<f32> = data.iter().flatten().copied().collect();
+    // levels[k] = (values, width, height, σ in level-0 nodes).
+    let mut levels = vec![(flat, cols, rows, 0.0f64)];
+    let wanted_max = data
+        .iter()
+        .map(|&c| factor * Tensor::from_f32(c).det().max(0.0).sqrt())
+        .fold(0.0f64, f64::max);
+    while levels
+        .last()
+        .is_some_and(|l| l.3 < wanted_max && l.1 > 2 && l.2 > 2)
+    {
+        let (prev, w, h, _) = levels.last().expect("non-empty");
+        let k = levels.len() as i32 - 1;
+        let blurred = gaussian_blur_parallel(prev, *w, *h, 3, 1.0);
+        let (hw, hh) = (w.div_ceil(2), h.div_ceil(2));
+        let mut half = vec![0.0f32; hw * hh * 3];
+        half.par_chunks_mut(hw * 3)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for x in 0..hw {
+                    for ch in 0..3 {
+                        let mut acc = 0.0;
+                        for (dy, dx) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            let (sx, sy) = ((2 * x + dx).min(w - 1), (2 * y + dy).min(h - 1));
+                            acc += blurred[(sy * w + sx) * 3 + ch];
+                        }
+                        row[x * 3 + ch] = 0.25 * acc;
+                    }
+                }
+            });
+        // Variance added at this level: blur σ = 1 and a 2-wide box, at scale 2^k.
+        let sigma2 = 1.25 * (4f64.powi(k + 1) - 1.0) / 3.0;
+        levels.push((half, hw, hh, sigma2.sqrt()));
+    }
+    let sample = |level: usize, c: usize, r: usize| -> [f64; 3] {
+        let (values, w, h, _) = &levels[level];
+        let scale = f64::from(1u32 << level);
+        let u = ((c as f64 + 0.5) / scale - 0.5).clamp(0.0, (*w - 1) as f64);
+        let v = ((r as f64 + 0.5) / scale - 0.5).clamp(0.0, (*h - 1) as f64);
+        let (x0, y0) = (u.floor() as usize, v.floor() as usize);
+        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+        let (tx, ty) = (u - x0 as f64, v - y0 as f64);
+        let at = |x: usize, y: usize, ch: usize| f64::from(values[(y * w + x) * 3 + ch]);
+        [0, 1, 2].map(|ch| {
+            let top = at(x0, y0, ch) + (at(x1, y0, ch) - at(x0, y0, ch)) * tx;
+            let bottom = at(x0, y1, ch) + (at(x1, y1, ch) - at(x0, y1, ch)) * tx;
+            top + (bottom - top) * ty
+        })
+    };
+    let mut out = vec![[0.0f32; 3]; data.len()];
+    out.par_chunks_mut(cols).enumerate().for_each(|(r, row)| {
+        for (c, o) in row.iter_mut().enumerate() {
+            let wanted = factor * Tensor::from_f32(data[r * cols + c]).det().max(0.0).sqrt();
+            let k = levels.iter().rposition(|l| l.3 <= wanted).unwrap_or(0);
+            let value = if k + 1 < levels.len() {
+                let (s0, s1) = (levels[k].3, levels[k + 1].3);
+                let t = ((wanted - s0) / (s1 - s0)).clamp(0.0, 1.0);
+                let (a, b) = (sample(k, c, r), sample(k + 1, c, r));
+                [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t)
+            } else {
+                sample(k, c, r)
+            };
+            *o = value.map(|v| v as f32);
+        }
+    });
+    out
 }
 
 /// Limits the growth of `size` to `gradation` per pixel (8-neighbour chamfer distance, two

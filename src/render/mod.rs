@@ -1,8 +1,8 @@
-//! Pictures of the pipeline's data. For now: previews of a metric field (the grid of its
+//! Pictures of the pipeline's data. For now: previews of a metric field and of a sampling (the grid of its
 //! ellipses over the faded photo, or orientation as hue and anisotropy as saturation), drawn
 //! anti-aliased with tiny-skia. The Voronoi, texture, glyph and fabric looks of paper
 //! sections 6 and 7 come here next.
 
-pub mod field_preview;
+pub mod preview;
 
-pub use field_preview::{field_preview, PreviewMode};
+pub use preview::{ellipses_preview, field_preview, PreviewMode};

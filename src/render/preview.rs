@@ -1,7 +1,8 @@
-//! Previews of a metric field for people: `Ellipses` draws the metric's ellipses at their true
+//! Previews for people. Of a metric field: `Ellipses` draws the metric's ellipses at their true
 //! size on a regular grid over the faded photo (paper Figure 5b's "samples at grid positions");
 //! `Orientation` colours every pixel by the direction of the long axis (hue, axial so θ and
 //! θ + 180° agree) and its anisotropy `1 − b/a` (saturation), over the photo's luminance.
+//! Of a sampling: [`ellipses_preview`] draws each sample's ellipse over the faded photo.
 
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
@@ -52,21 +53,7 @@ fn luminance_backdrop(photo: Option<&DynamicImage>, w: u32, h: u32) -> Vec<f32> 
 }
 
 fn ellipse_grid(metric: &TensorField, backdrop: &[f32], w: u32, h: u32) -> RgbaImage {
-    let mut pixmap = Pixmap::new(w, h).expect("preview size is non-zero");
-    for (px, &l) in pixmap.data_mut().chunks_exact_mut(4).zip(backdrop) {
-        // Fade towards white so the ellipses read clearly.
-        let v = (255.0 * (0.55 + 0.45 * l)) as u8;
-        px.copy_from_slice(&[v, v, v, 255]);
-    }
     let spacing = grid_spacing(metric);
-    // tiny-skia paints anti-aliased by default.
-    let mut fill = Paint::default();
-    let mut line = Paint::default();
-    line.set_color(Color::from_rgba8(20, 30, 60, 230));
-    let stroke = Stroke {
-        width: 1.0,
-        ..Stroke::default()
-    };
     let (cols, rows) = (
         (f64::from(w) / spacing).floor().max(1.0) as usize,
         (f64::from(h) / spacing).floor().max(1.0) as usize,
@@ -75,32 +62,70 @@ fn ellipse_grid(metric: &TensorField, backdrop: &[f32], w: u32, h: u32) -> RgbaI
         (f64::from(w) - (cols - 1) as f64 * spacing) / 2.0,
         (f64::from(h) - (rows - 1) as f64 * spacing) / 2.0,
     );
-    for r in 0..rows {
-        for c in 0..cols {
-            let p = offset + DVec2::new(c as f64, r as f64) * spacing;
-            let e = metric.sample(p).eigen();
-            if !(e.l2 > 0.0 && e.l1.is_finite()) {
-                continue;
-            }
-            let Some(rect) = Rect::from_xywh(
-                -e.l1 as f32,
-                -e.l2 as f32,
-                2.0 * e.l1 as f32,
-                2.0 * e.l2 as f32,
-            ) else {
-                continue;
-            };
-            let Some(path) = PathBuilder::from_oval(rect) else {
-                continue;
-            };
-            let t = Transform::from_rotate(e.angle.to_degrees() as f32)
-                .post_translate(p.x as f32, p.y as f32);
-            let anisotropy = 1.0 - e.l2 / e.l1;
-            let [cr, cg, cb] = anisotropy_colour(anisotropy);
-            fill.set_color(Color::from_rgba8(cr, cg, cb, 140));
-            pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
-            pixmap.stroke_path(&path, &line, &stroke, t, None);
+    let centres: Vec<DVec2> = (0..rows)
+        .flat_map(|r| (0..cols).map(move |c| offset + DVec2::new(c as f64, r as f64) * spacing))
+        .collect();
+    let metrics: Vec<Tensor> = centres.iter().map(|&p| metric.sample(p)).collect();
+    draw_ellipses(backdrop, w, h, &centres, &metrics)
+}
+
+/// Each sample's ellipse `{p + m·u : |u| = 1}` over the faded photo, `width × height` pixels.
+#[must_use]
+pub fn ellipses_preview(
+    positions: &[DVec2],
+    metrics: &[Tensor],
+    photo: Option<&DynamicImage>,
+    width: u32,
+    height: u32,
+) -> RgbaImage {
+    let backdrop = luminance_backdrop(photo, width.max(1), height.max(1));
+    draw_ellipses(&backdrop, width.max(1), height.max(1), positions, metrics)
+}
+
+/// Ellipses filled by anisotropy colour and outlined, anti-aliased, over a faded backdrop.
+fn draw_ellipses(
+    backdrop: &[f32],
+    w: u32,
+    h: u32,
+    centres: &[DVec2],
+    metrics: &[Tensor],
+) -> RgbaImage {
+    let mut pixmap = Pixmap::new(w, h).expect("preview size is non-zero");
+    for (px, &l) in pixmap.data_mut().chunks_exact_mut(4).zip(backdrop) {
+        // Fade towards white so the ellipses read clearly.
+        let v = (255.0 * (0.55 + 0.45 * l)) as u8;
+        px.copy_from_slice(&[v, v, v, 255]);
+    }
+    // tiny-skia paints anti-aliased by default.
+    let mut fill = Paint::default();
+    let mut line = Paint::default();
+    line.set_color(Color::from_rgba8(20, 30, 60, 230));
+    let stroke = Stroke {
+        width: 1.0,
+        ..Stroke::default()
+    };
+    for (p, m) in centres.iter().zip(metrics) {
+        let e = m.eigen();
+        if !(e.l2 > 0.0 && e.l1.is_finite()) {
+            continue;
         }
+        let Some(rect) = Rect::from_xywh(
+            -e.l1 as f32,
+            -e.l2 as f32,
+            2.0 * e.l1 as f32,
+            2.0 * e.l2 as f32,
+        ) else {
+            continue;
+        };
+        let Some(path) = PathBuilder::from_oval(rect) else {
+            continue;
+        };
+        let t = Transform::from_rotate(e.angle.to_degrees() as f32)
+            .post_translate(p.x as f32, p.y as f32);
+        let [cr, cg, cb] = anisotropy_colour(1.0 - e.l2 / e.l1);
+        fill.set_color(Color::from_rgba8(cr, cg, cb, 140));
+        pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
+        pixmap.stroke_path(&path, &line, &stroke, t, None);
     }
     RgbaImage::from_raw(w, h, pixmap.take()).expect("pixmap holds w·h RGBA pixels")
 }

@@ -1,0 +1,198 @@
+//! Automatic insert and delete operations (paper section 5.5).
+//!
+//! Insert: per triangle of the anisotropic Delaunay triangulation, the `fill_rate` is computed
+//! in the isotropic space of `m(q)⁻¹`, `q` the triangle's barycentre: each corner's ellipse
+//! becomes (approximately) a disc of radius `√(det m_i / det m_q)`, and the fill rate is the area
+//! of the three corner sectors over the triangle's area (hexagonal packing: `π/(2√3) ≈ 0.907`).
+//! A new sample goes to `q` when the fill rate is at most the threshold (0.6 in the paper) and
+//! there is room for it ([`INSERT_MIN_DISTANCE`]). At most one insertion touches each sample
+//! per round, so two neighbouring empty triangles do not both receive one.
+//!
+//! Delete: a sample is overcrowded when the repelling forces on it, summed over its neighbours
+//! (its *pressure*, `Σ max(f(d), 0)`), exceed a threshold. The most pressed go first, and a
+//! sample next to one deleted in the same round is spared. Boundary samples are never deleted.
+
+use super::delaunay::AnisotropicDelaunay;
+use super::distance::normalised_distance;
+use super::force::force_spline;
+use crate::field::{Tensor, TensorField};
+use glam::DVec2;
+
+/// The optimal fill rate of hexagonally packed discs, `π / (2√3)`.
+pub const OPTIMAL_FILL_RATE: f64 = std::f64::consts::PI / (2.0 * 1.732_050_807_568_877_2);
+
+/// Fill rate of the triangle `a, b, c` with metrics `ma, mb, mc`, in the isotropic space of
+/// the metric at its barycentre.
+#[must_use]
+pub fn fill_rate(p: [DVec2; 3], m: [Tensor; 3], metric: &TensorField) -> f64 {
+    let q = (p[0] + p[1] + p[2]) / 3.0;
+    let mq = metric.sample(q);
+    let Some(inv) = mq.inverse() else {
+        return f64::INFINITY;
+    };
+    let det_q = mq.det();
+    let t = [
+        inv.mul_vec(p[0] - q),
+        inv.mul_vec(p[1] - q),
+        inv.mul_vec(p[2] - q),
+    ];
+    let area = 0.5 * (t[1] - t[0]).perp_dot(t[2] - t[0]).abs();
+    if area <= 0.0 {
+        return f64::INFINITY;
+    }
+    let mut covered = 0.0;
+    for i in 0..3 {
+        let (u, v) = (t[(i + 1) % 3] - t[i], t[(i + 2) % 3] - t[i]);
+        let angle = u.angle_to(v).abs();
+        let r2 = (m[i].det() / det_q).max(0.0);
+        covered += 0.5 * angle * r2;
+    }
+    covered / area
+}
+
+/// Barycentres of the triangles whose fill rate is at most `threshold`, at most one per sample
+/// per round, in triangle order (deterministic).
+#[must_use]
+pub fn insertion_points(
+    mesh: &AnisotropicDelaunay,
+    positions: &[DVec2],
+    metrics: &[Tensor],
+    metric: &TensorField,
+    threshold: f64,
+) -> Vec<DVec2> {
+    let mut touched = vec![false; positions.len()];
+    let mut out = Vec::new();
+    for [a, b, c] in mesh.triangles() {
+        let (a, b, c) = (a as usize, b as usize, c as usize);
+        if touched[a] || touched[b] || touched[c] {
+            continue;
+        }
+        let p = [positions[a], positions[b], positions[c]];
+        let m = [metrics[a], metrics[b], metrics[c]];
+        let fill = fill_rate(p, m, metric);
+        if fill <= threshold && has_room(p, m, metric) {
+            touched[a] = true;
+            touched[b] = true;
+            touched[c] = true;
+            out.push((p[0] + p[1] + p[2]) / 3.0);
+        }
+    }
+    out
+}
+
+/// Whether a sample at the barycentre of the triangle would keep a normalised distance of at
+/// least [`INSERT_MIN_DISTANCE`] from the three corners.
+fn has_room(p: [DVec2; 3], m: [Tensor; 3], metric: &TensorField) -> bool {
+    let q = (p[0] + p[1] + p[2]) / 3.0;
+    let Some(inv_q) = metric.sample(q).inverse() else {
+        return false;
+    };
+    (0..3).all(|i| {
+        m[i].inverse()
+            .is_some_and(|inv| normalised_distance(q, &inv_q, p[i], &inv) >= INSERT_MIN_DISTANCE)
+    })
+}
+
+/// Smallest normalised distance an inserted sample may have to the triangle's corners. The
+/// fill rate alone also fires in gaps that are large but too narrow for a sample (four samples
+/// in a square at `d ≈ 1.15`): inserting there overcrowds the packing (measured: 6 % more
+/// samples than fit, nearest-neighbour median 0.92); at 0.65 the count settles near the
+/// hexagonal estimate.
+pub const INSERT_MIN_DISTANCE: f64 = 0.65;
+
+/// Pressure `Σ max(f(d), 0)` of every sample over its neighbours (compressed rows).
+#[must_use]
+pub fn pressures(
+    positions: &[DVec2],
+    inverses: &[Tensor],
+    offsets: &[u32],
+    list: &[u32],
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    (0..positions.len())
+        .into_par_iter()
+        .map(|i| {
+            list[offsets[i] as usize..offsets[i + 1] as usize]
+                .iter()
+                .map(|&j| {
+                    let j = j as usize;
+                    let d =
+                        normalised_distance(positions[i], &inverses[i], positions[j], &inverses[j]);
+                    force_spline(d).max(0.0)
+                })
+                .sum()
+        })
+        .collect()
+}
+
+/// Interior samples (index ≥ `fixed`) to delete: pressure above `threshold`, most pressed
+/// first, never two neighbours in one round. Returned sorted by index.
+#[must_use]
+pub fn deletions(
+    pressure: &[f64],
+    fixed: usize,
+    offsets: &[u32],
+    list: &[u32],
+    threshold: f64,
+) -> Vec<u32> {
+    let mut candidates: Vec<u32> = (fixed..pressure.len())
+        .filter(|&i| pressure[i] > threshold)
+        .map(|i| i as u32)
+        .collect();
+    candidates.sort_by(|&a, &b| {
+        pressure[b as usize]
+            .total_cmp(&pressure[a as usize])
+            .then(a.cmp(&b))
+    });
+    let mut spared = vec![false; pressure.len()];
+    let mut out = Vec::new();
+    for c in candidates {
+        let c = c as usize;
+        if spared[c] {
+            continue;
+        }
+        out.push(c as u32);
+        for &n in &list[offsets[c] as usize..offsets[c + 1] as usize] {
+            spared[n as usize] = true;
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hexagonal_triangle_has_the_optimal_fill_rate() {
+        // Unit discs at the corners of an equilateral triangle of side 2, in a metric
+        // with semi-axes 3 and 1 at 20°: mapped to isotropic space it is the ideal case.
+        let m = Tensor::from_eigen(20f64.to_radians(), 3.0, 1.0);
+        let metric = TensorField::constant(10, 10, m);
+        let iso = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(1.0, 3f64.sqrt()),
+        ];
+        let p = iso.map(|v| m.mul_vec(v) + DVec2::new(4.0, 4.0));
+        let fill = fill_rate(p, [m; 3], &metric);
+        assert!((fill - OPTIMAL_FILL_RATE).abs() < 1e-9, "{fill}");
+        // Twice as far apart: a quarter of that.
+        let far = iso.map(|v| m.mul_vec(v * 2.0) + DVec2::new(2.0, 2.0));
+        assert!((fill_rate(far, [m; 3], &metric) - OPTIMAL_FILL_RATE / 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn deletions_spare_neighbours() {
+        // Path 0 - 1 - 2 - 3, pressures make 1 and 2 candidates; only the higher goes.
+        let offsets = [0, 1, 3, 5, 6];
+        let list = [1, 0, 2, 1, 3, 2];
+        let pressure = [0.0, 3.0, 4.0, 0.0];
+        assert_eq!(deletions(&pressure, 0, &offsets, &list, 1.0), vec![2]);
+        assert_eq!(
+            deletions(&pressure, 3, &offsets, &list, 1.0),
+            Vec::<u32>::new()
+        );
+    }
+}
