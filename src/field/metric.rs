@@ -238,7 +238,7 @@ fn smooth_by_size(data: &[[f32; 3]], cols: usize, rows: usize, factor: f64) -> V
         let scale = f64::from(1u32 << level);
         let u = ((c as f64 + 0.5) / scale - 0.5).clamp(0.0, (*w - 1) as f64);
         let v = ((r as f64 + 0.5) / scale - 0.5).clamp(0.0, (*h - 1) as f64);
-        let (x0, y0) = (u.floor() as usize, v.floor() as usize);
+        let (x0, y0) = (u as usize, v as usize);
         let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
         let (tx, ty) = (u - x0 as f64, v - y0 as f64);
         let at = |x: usize, y: usize, ch: usize| f64::from(values[(y * w + x) * 3 + ch]);

@@ -85,13 +85,14 @@ impl Tensor {
     }
 
     /// Closed-form eigen-decomposition, accurate also for (nearly) equal eigenvalues and for
-    /// negative eigenvalues: the half-difference of the eigenvalues is `hypot`, never a
+    /// negative eigenvalues: the half-difference of the eigenvalues is `√(d² + xy²)`, never a
     /// square root of a difference, and the angle comes from `atan2` (0 for isotropic tensors).
     #[must_use]
     pub fn eigen(&self) -> Eigen {
         let mean = 0.5 * (self.xx + self.yy);
         let half_diff = 0.5 * (self.xx - self.yy);
-        let radius = half_diff.hypot(self.xy);
+        // f64 squares of f32-sized components cannot overflow, so no libm hypot is needed.
+        let radius = (half_diff * half_diff + self.xy * self.xy).sqrt();
         Eigen {
             l1: mean + radius,
             l2: mean - radius,

@@ -33,6 +33,58 @@ pub struct AnisotropicDelaunay {
     pub cap_hits: u64,
 }
 
+/// The edges of a mesh: `ends[e]` are edge `e`'s vertices; the edges at vertex `v` are
+/// `incident[offsets[v]..offsets[v + 1]]`, each `e << 1 | side` with side 0 when `v` is
+/// `ends[e][0]` and 1 when it is `ends[e][1]`.
+#[derive(Clone, Debug, Default)]
+pub struct Edges {
+    /// The two vertices of each edge.
+    pub ends: Vec<[u32; 2]>,
+    /// Row starts into `incident`, one per vertex plus one.
+    pub offsets: Vec<u32>,
+    /// Edge index and side, per vertex.
+    pub incident: Vec<u32>,
+}
+
+impl Edges {
+    /// The edge structure of `ends` over `num_vertices` vertices.
+    #[must_use]
+    pub fn from_ends(ends: Vec<[u32; 2]>, num_vertices: usize) -> Edges {
+        let mut offsets = vec![0u32; num_vertices + 1];
+        for [a, b] in &ends {
+            offsets[*a as usize + 1] += 1;
+            offsets[*b as usize + 1] += 1;
+        }
+        for i in 1..offsets.len() {
+            offsets[i] += offsets[i - 1];
+        }
+        let mut fill = offsets.clone();
+        let mut incident = vec![0u32; 2 * ends.len()];
+        for (e, [a, b]) in ends.iter().enumerate() {
+            for (side, v) in [(0u32, *a), (1, *b)] {
+                incident[fill[v as usize] as usize] = (e as u32) << 1 | side;
+                fill[v as usize] += 1;
+            }
+        }
+        Edges {
+            ends,
+            offsets,
+            incident,
+        }
+    }
+
+    /// The edges at vertex `v` as (edge index, other vertex).
+    pub fn at(&self, v: usize) -> impl Iterator<Item = (usize, u32)> + '_ {
+        self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+            .iter()
+            .map(|&x| {
+                let e = (x >> 1) as usize;
+                let [a, b] = self.ends[e];
+                (e, if x & 1 == 0 { b } else { a })
+            })
+    }
+}
+
 /// spade vertex carrying the caller's index, so the order of `bulk_load` does not matter.
 struct Site {
     position: Point2<f64>,
@@ -107,12 +159,13 @@ impl AnisotropicDelaunay {
             }
         }
         let twin = compute_twins(&origin, points.len());
-        let mesh = AnisotropicDelaunay {
+        let mut mesh = AnisotropicDelaunay {
             origin,
             twin,
             flips: 0,
             cap_hits: 0,
         };
+        mesh.sort_triangles();
         (mesh, missing)
     }
 
@@ -164,13 +217,34 @@ impl AnisotropicDelaunay {
     /// Lawson flips until every interior edge meets the generalised Delaunay criterion or the
     /// flip cap is hit. Returns the number of flips. The mesh must be valid at `points`.
     pub fn legalize(&mut self, points: &[DVec2], metric: &TensorField) -> usize {
+        self.legalize_around(points, metric, None)
+    }
+
+    /// [`Self::legalize`] starting only from the edges whose quad has a vertex marked in
+    /// `moved` (all edges when `None`). An edge whose four quad vertices have not moved keeps
+    /// its verdict, so after small motions this checks a fraction of the mesh; flips still
+    /// propagate to wherever they must.
+    pub fn legalize_around(
+        &mut self,
+        points: &[DVec2],
+        metric: &TensorField,
+        moved: Option<&[bool]>,
+    ) -> usize {
+        let touches = |h: usize| {
+            moved.is_none_or(|m| {
+                let g = self.twin[h] as usize;
+                [h, next(h), prev(h), prev(g)]
+                    .iter()
+                    .any(|&k| m[self.origin[k] as usize])
+            })
+        };
         let mut stack: Vec<u32> = (0..self.origin.len() as u32)
             .filter(|&h| {
                 let t = self.twin[h as usize];
-                t != NONE && h < t
+                t != NONE && h < t && touches(h as usize)
             })
             .collect();
-        let cap = FLIPS_PER_EDGE * stack.len().max(1);
+        let cap = FLIPS_PER_EDGE * (self.origin.len() / 2).max(1);
         let mut flips = 0;
         while let Some(h) = stack.pop() {
             let h = h as usize;
@@ -241,6 +315,71 @@ impl AnisotropicDelaunay {
         }
     }
 
+    /// Inserts vertex `v`, which lies strictly inside triangle `t`, by splitting `t` into three
+    /// (a b v, b c v, c a v). The mesh is a valid triangulation afterwards but not yet
+    /// Delaunay: call [`Self::legalize`].
+    pub fn split_triangle(&mut self, t: usize, v: u32) {
+        let [a, b, c] = self.triangle(t);
+        let h = 3 * t;
+        let (tw_ab, tw_bc, tw_ca) = (self.twin[h], self.twin[h + 1], self.twin[h + 2]);
+        let t1 = self.num_triangles();
+        let (h1, h2) = (3 * t1, 3 * t1 + 3);
+        // t: a→b, b→v, v→a.   t1: b→c, c→v, v→b.   t2: c→a, a→v, v→c.
+        self.origin[h..h + 3].copy_from_slice(&[a, b, v]);
+        self.origin.extend_from_slice(&[b, c, v, c, a, v]);
+        self.twin.extend_from_slice(&[NONE; 6]);
+        self.link(h, tw_ab);
+        self.link(h1, tw_bc);
+        self.link(h2, tw_ca);
+        self.link(h + 1, h1 as u32 + 2);
+        self.link(h1 + 1, h2 as u32 + 2);
+        self.link(h2 + 1, h as u32 + 2);
+    }
+
+    /// Renames every vertex `v` to `new_index[v]` (after the caller reorders its points), then
+    /// puts the triangles in the order of their smallest vertex, so that with spatially sorted
+    /// vertices the loops over triangles and edges read memory mostly in order.
+    pub fn renumber(&mut self, new_index: &[u32]) {
+        for o in &mut self.origin {
+            *o = new_index[*o as usize];
+        }
+        self.sort_triangles();
+    }
+
+    /// Reorders triangles by their smallest vertex index (ties by triangle), keeping each
+    /// triangle's corner order and remapping twins.
+    pub fn sort_triangles(&mut self) {
+        let n = self.num_triangles();
+        let mut order: Vec<(u32, u32)> = (0..n)
+            .map(|t| {
+                let [a, b, c] = self.triangle(t);
+                (a.min(b).min(c), t as u32)
+            })
+            .collect();
+        order.sort_unstable();
+        let mut new_of_old = vec![0u32; n];
+        for (new, &(_, old)) in order.iter().enumerate() {
+            new_of_old[old as usize] = new as u32;
+        }
+        let map = |h: u32| {
+            if h == NONE {
+                NONE
+            } else {
+                3 * new_of_old[h as usize / 3] + h % 3
+            }
+        };
+        let mut origin = vec![0u32; self.origin.len()];
+        let mut twin = vec![NONE; self.twin.len()];
+        for (new, &(_, old)) in order.iter().enumerate() {
+            for k in 0..3 {
+                origin[3 * new + k] = self.origin[3 * old as usize + k];
+                twin[3 * new + k] = map(self.twin[3 * old as usize + k]);
+            }
+        }
+        self.origin = origin;
+        self.twin = twin;
+    }
+
     /// Neighbours of every vertex (the one-ring) as compressed rows: the neighbours of `v` are
     /// `list[offsets[v]..offsets[v + 1]]`, in a fixed order.
     #[must_use]
@@ -267,6 +406,22 @@ impl AnisotropicDelaunay {
             fill[a as usize] += 1;
         });
         (offsets, list)
+    }
+
+    /// Every edge once, as its two end vertices, and for every vertex the edges it ends
+    /// (compressed rows): force loops compute each pair once and gather per particle.
+    #[must_use]
+    pub fn edges(&self, num_vertices: usize) -> Edges {
+        let mut ends: Vec<[u32; 2]> = (0..self.origin.len())
+            .filter(|&h| self.twin[h] == NONE || (h as u32) < self.twin[h])
+            .map(|h| {
+                let (a, b) = (self.origin[h], self.origin[next(h)]);
+                [a.min(b), a.max(b)]
+            })
+            .collect();
+        // In vertex order: with spatially sorted vertices, a loop over edges reads in order.
+        ends.sort_unstable();
+        Edges::from_ends(ends, num_vertices)
     }
 
     /// Checks the mesh invariants: twins are mutual and reversed, every triangle is
@@ -465,6 +620,62 @@ mod tests {
             }
         }
         assert_eq!(count, 2 * edges.len());
+    }
+
+    #[test]
+    fn edges_match_the_one_rings() {
+        let pts = random_points(150, 8);
+        let metric = TensorField::constant(4, 4, Tensor::from_eigen(0.7, 4.0, 1.0));
+        let (mesh, _) = AnisotropicDelaunay::build(&pts, &metric);
+        let (off, list) = mesh.neighbours(pts.len());
+        let edges = mesh.edges(pts.len());
+        assert_eq!(edges.ends.len() * 2, list.len());
+        for v in 0..pts.len() {
+            let mut a: Vec<u32> = list[off[v] as usize..off[v + 1] as usize].to_vec();
+            let mut b: Vec<u32> = edges.incident
+                [edges.offsets[v] as usize..edges.offsets[v + 1] as usize]
+                .iter()
+                .map(|&x| {
+                    let [p, q] = edges.ends[(x >> 1) as usize];
+                    assert_eq!(if x & 1 == 0 { p } else { q }, v as u32);
+                    if x & 1 == 0 {
+                        q
+                    } else {
+                        p
+                    }
+                })
+                .collect();
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn split_then_legalize_equals_a_fresh_build() {
+        let mut pts = random_points(300, 9);
+        let metric = TensorField::constant(4, 4, Tensor::from_eigen(-0.4, 3.0, 1.0));
+        let (mut mesh, _) = AnisotropicDelaunay::build(&pts, &metric);
+        // Insert at the barycentres of a few triangles that share no vertex.
+        let mut used = vec![false; pts.len()];
+        for t in 0..mesh.num_triangles() {
+            let [a, b, c] = mesh.triangle(t);
+            if [a, b, c].iter().any(|&v| used[v as usize]) || t % 7 != 0 {
+                continue;
+            }
+            for v in [a, b, c] {
+                used[v as usize] = true;
+            }
+            let q = (pts[a as usize] + pts[b as usize] + pts[c as usize]) / 3.0;
+            pts.push(q);
+            used.push(true);
+            mesh.split_triangle(t, pts.len() as u32 - 1);
+        }
+        mesh.sanity_check(&pts, &[]).unwrap();
+        mesh.legalize(&pts, &metric);
+        mesh.sanity_check(&pts, &[]).unwrap();
+        let (fresh, _) = AnisotropicDelaunay::build(&pts, &metric);
+        assert_eq!(edge_set(mesh.triangles()), edge_set(fresh.triangles()));
     }
 
     #[test]

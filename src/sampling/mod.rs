@@ -30,7 +30,7 @@ pub mod report;
 pub mod rng;
 pub mod seeding;
 
-pub use delaunay::AnisotropicDelaunay;
+pub use delaunay::{AnisotropicDelaunay, Edges};
 pub use force::force_spline;
 pub use population::fill_rate;
 pub use quality::Quality;
@@ -178,7 +178,7 @@ pub struct Stats {
     pub iterations: usize,
     /// Largest step of the last iteration relative to the particle's size.
     pub last_step: f64,
-    /// Time spent placing boundary samples and throwing darts.
+    /// Time spent checking the field, placing boundary samples and throwing darts.
     pub seeding_time: Duration,
     /// Time spent on triangulation builds and repairs.
     pub triangulation_time: Duration,
@@ -211,7 +211,9 @@ const MAX_AXIS_IN_DIAGONALS: f64 = 100.0;
 pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<f64> {
     let diag = metric.diagonal();
     let bad = metric.first_node_where(|t| {
-        !t.is_finite() || !t.is_positive_definite() || t.eigen().l1 > MAX_AXIS_IN_DIAGONALS * diag
+        !t.is_finite()
+            || !t.is_positive_definite()
+            || seeding::long_semi_axis(&t) > MAX_AXIS_IN_DIAGONALS * diag
     });
     if let Some((c, r)) = bad {
         let e = metric.node(c, r).eigen();
@@ -241,6 +243,26 @@ pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<f64> 
     Ok(estimate)
 }
 
+/// The metric the sampler works on: the field box-averaged to a node spacing of about two
+/// thirds of the smallest ellipse's mean radius. The metric is smooth at that scale (photo
+/// metrics are smoothed with a σ of their ellipses' radius), and a field of a few megabytes
+/// instead of tens keeps the per-particle look-ups in cache: on a 1024² field they were half
+/// of the run.
+fn sampling_field(field: &TensorField) -> TensorField {
+    let smallest = field
+        .data()
+        .par_iter()
+        .map(|&c| Tensor::from_f32(c).det().sqrt())
+        .reduce(|| f64::INFINITY, f64::min);
+    let factor = (smallest / (1.5 * field.spacing())).floor();
+    let factor = if factor.is_finite() {
+        factor.clamp(1.0, 64.0) as usize
+    } else {
+        1
+    };
+    field.coarsened(factor)
+}
+
 /// Particle state during relaxation, structure-of-arrays, boundary samples first.
 struct Particles {
     positions: Vec<DVec2>,
@@ -249,6 +271,12 @@ struct Particles {
     velocities: Vec<DVec2>,
     /// The next positions while an iteration runs (reused, not reallocated).
     scratch: Vec<DVec2>,
+    /// Force of each triangulation edge on its first vertex (reused).
+    edge_forces: Vec<DVec2>,
+    /// Where each particle's metric was last looked up.
+    looked_up: Vec<DVec2>,
+    /// Where each particle was when the triangulation was last made Delaunay (NaN: never).
+    meshed_at: Vec<DVec2>,
     fixed: usize,
 }
 
@@ -261,11 +289,14 @@ impl Particles {
             .collect();
         let velocities = vec![DVec2::ZERO; positions.len()];
         Particles {
+            looked_up: positions.clone(),
+            meshed_at: vec![DVec2::NAN; positions.len()],
             positions,
             metrics,
             inverses,
             velocities,
             scratch: Vec::new(),
+            edge_forces: Vec::new(),
             fixed,
         }
     }
@@ -273,9 +304,35 @@ impl Particles {
     fn push(&mut self, p: DVec2, field: &TensorField) {
         let m = field.sample(p);
         self.positions.push(p);
+        self.looked_up.push(p);
+        self.meshed_at.push(DVec2::NAN);
         self.metrics.push(m);
         self.inverses.push(m.inverse().unwrap_or_default());
         self.velocities.push(DVec2::ZERO);
+    }
+
+    /// Puts the free particles in Morton (Z-curve) order of their positions, so that loops
+    /// over particles, their neighbours and the field read memory mostly in order. Ties keep
+    /// the current order, so the result is deterministic.
+    /// Returns `new_index`: the new position of every old index.
+    fn sort_spatially(&mut self, domain: DVec2) -> Vec<u32> {
+        let key = |p: DVec2| seeding::morton_key(p, domain);
+        let mut order: Vec<(u32, u32)> = (self.fixed..self.positions.len())
+            .map(|i| (key(self.positions[i]), i as u32))
+            .collect();
+        order.sort_unstable();
+        let fixed = self.fixed;
+        permute(&mut self.positions, fixed, &order);
+        permute(&mut self.velocities, fixed, &order);
+        permute(&mut self.looked_up, fixed, &order);
+        permute(&mut self.meshed_at, fixed, &order);
+        permute(&mut self.metrics, fixed, &order);
+        permute(&mut self.inverses, fixed, &order);
+        let mut new_index: Vec<u32> = (0..self.positions.len() as u32).collect();
+        for (k, &(_, old)) in order.iter().enumerate() {
+            new_index[old as usize] = (self.fixed + k) as u32;
+        }
+        new_index
     }
 
     /// Removes the samples at the sorted indices `gone` (none of them fixed), keeping order.
@@ -293,22 +350,33 @@ impl Particles {
         };
         let kept: Vec<usize> = (0..self.positions.len()).filter(|i| keep(i)).collect();
         self.positions = kept.iter().map(|&i| self.positions[i]).collect();
+        self.looked_up = kept.iter().map(|&i| self.looked_up[i]).collect();
+        self.meshed_at = kept.iter().map(|&i| self.meshed_at[i]).collect();
         self.metrics = kept.iter().map(|&i| self.metrics[i]).collect();
         self.inverses = kept.iter().map(|&i| self.inverses[i]).collect();
         self.velocities = kept.iter().map(|&i| self.velocities[i]).collect();
     }
 }
 
+/// Reorders `v[fixed..]` so that slot `fixed + k` holds the old `v[order[k].1]`.
+fn permute<T: Copy>(v: &mut Vec<T>, fixed: usize, order: &[(u32, u32)]) {
+    let sorted: Vec<T> = order.iter().map(|&(_, i)| v[i as usize]).collect();
+    v.truncate(fixed);
+    v.extend(sorted);
+}
+
 /// Runs the whole sampler on `field` (a metric). Fails before any work when the metric has
 /// unusable ellipses or needs more than `params.max_samples` samples.
-pub fn sample(field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
+pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
     params.validate()?;
-    let estimate = validate_metric(field, params.max_samples)?;
+    let start = Instant::now();
+    let estimate = validate_metric(full_field, params.max_samples)?;
+    let coarse = sampling_field(full_field);
+    let field = &coarse;
     let mut stats = Stats {
         estimated_count: estimate,
         ..Stats::default()
     };
-    let start = Instant::now();
     let mut rng = rng::Rng::new(params.seed, 0);
     let fixed = boundary::boundary_samples(field, &mut rng);
     let target = (estimate - fixed.len() as f64).round().max(0.0) as usize;
@@ -324,7 +392,7 @@ pub fn sample(field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
     all.extend(interior);
     let mut particles = Particles::new(all, nfixed, field);
     let mut mesh = rebuild(&mut particles, field, &mut stats);
-    let (mut offsets, mut list) = mesh.neighbours(particles.positions.len());
+    let mut edges = mesh.edges(particles.positions.len());
     let dynamics = Dynamics {
         dt: params.time_step,
         scale: params.force_scale(),
@@ -333,15 +401,21 @@ pub fn sample(field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
 
     for it in 0..params.iterations {
         if it > 0 && params.repair_every > 0 && it % params.repair_every == 0 {
-            mesh = repair(mesh, &mut particles, field, &mut stats);
-            let settling = it + params.settle_iterations > params.iterations;
-            if !settling && control_population(&mesh, &mut particles, field, params, &mut stats) {
+            // Population control reads fill rates and one-rings of the current mesh, which
+            // must still be a valid triangulation of the moved particles.
+            if !mesh.is_valid_at(&particles.positions) {
                 mesh = rebuild(&mut particles, field, &mut stats);
             }
-            (offsets, list) = mesh.neighbours(particles.positions.len());
+            let settling = it + params.settle_iterations > params.iterations;
+            mesh = if settling {
+                repair(mesh, &mut particles, field, &mut stats)
+            } else {
+                control_population(mesh, &mut particles, field, params, &mut stats)
+            };
+            edges = mesh.edges(particles.positions.len());
         }
         let t = Instant::now();
-        let step = relax_once(&mut particles, &offsets, &list, field, &dynamics);
+        let step = relax_once(&mut particles, &edges, field, &dynamics);
         stats.relaxation_time += t.elapsed();
         stats.iterations = it + 1;
         stats.last_step = step;
@@ -349,12 +423,18 @@ pub fn sample(field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
             break;
         }
     }
+    // The final triangulation is checked everywhere, not only where particles moved.
+    particles.meshed_at.fill(DVec2::NAN);
     mesh = repair(mesh, &mut particles, field, &mut stats);
-    stats.flips = mesh.flips;
-    stats.flip_cap_hits = mesh.cap_hits;
+    // Report every sample with the metric of the field as given.
+    let metrics = particles
+        .positions
+        .par_iter()
+        .map(|&p| full_field.sample(p))
+        .collect();
     Ok(Sampling {
         positions: particles.positions,
-        metrics: particles.metrics,
+        metrics,
         fixed: nfixed,
         mesh,
         stats,
@@ -370,12 +450,14 @@ fn rebuild(
 ) -> AnisotropicDelaunay {
     let t = Instant::now();
     let flips_before = stats.flips;
+    particles.sort_spatially(field.domain());
     let (mut mesh, missing) = AnisotropicDelaunay::build(&particles.positions, field);
     if !missing.is_empty() {
         particles.remove(&missing);
         stats.deleted += missing.len();
         (mesh, _) = AnisotropicDelaunay::build(&particles.positions, field);
     }
+    particles.meshed_at.clone_from(&particles.positions);
     stats.flips = flips_before + mesh.flips;
     stats.flip_cap_hits += mesh.cap_hits;
     mesh.flips = 0;
@@ -398,7 +480,20 @@ fn repair(
     }
     let t = Instant::now();
     let (flips, caps) = (mesh.flips, mesh.cap_hits);
-    mesh.legalize(&particles.positions, field);
+    // Only quads with a particle that moved noticeably since the last repair are checked.
+    let moved: Vec<bool> = particles
+        .positions
+        .iter()
+        .zip(&particles.meshed_at)
+        .zip(&particles.metrics)
+        .map(|((p, at), m)| {
+            // A NaN position (never meshed) counts as moved.
+            let moved = (*p - *at).length_squared();
+            moved.is_nan() || moved > MESH_REFRESH * MESH_REFRESH * m.det()
+        })
+        .collect();
+    mesh.legalize_around(&particles.positions, field, Some(&moved));
+    particles.meshed_at.clone_from(&particles.positions);
     stats.flips += mesh.flips - flips;
     stats.flip_cap_hits += mesh.cap_hits - caps;
     mesh.flips = 0;
@@ -407,41 +502,45 @@ fn repair(
     mesh
 }
 
-/// Inserts into poorly filled triangles and deletes overcrowded samples; returns whether the
-/// population changed.
+/// Inserts into poorly filled triangles and deletes overcrowded samples, and returns the
+/// triangulation of the new population: insertions split their triangle in place (then
+/// Lawson flips), deletions need a new triangulation.
 fn control_population(
-    mesh: &AnisotropicDelaunay,
+    mut mesh: AnisotropicDelaunay,
     particles: &mut Particles,
     field: &TensorField,
     params: &SamplerParams,
     stats: &mut Stats,
-) -> bool {
+) -> AnisotropicDelaunay {
     let t = Instant::now();
-    let (offsets, list) = mesh.neighbours(particles.positions.len());
-    let pressure =
-        population::pressures(&particles.positions, &particles.inverses, &offsets, &list);
-    let gone = population::deletions(
-        &pressure,
-        particles.fixed,
-        &offsets,
-        &list,
-        params.delete_pressure,
-    );
+    let edges = mesh.edges(particles.positions.len());
+    let pressure = population::pressures(&particles.positions, &particles.inverses, &edges);
+    let gone = population::deletions(&pressure, particles.fixed, &edges, params.delete_pressure);
     let new = population::insertion_points(
-        mesh,
+        &mesh,
         &particles.positions,
         &particles.metrics,
         field,
         params.insert_fill_rate,
     );
-    particles.remove(&gone);
-    for &p in &new {
-        particles.push(p, field);
-    }
     stats.deleted += gone.len();
     stats.inserted += new.len();
+    for &(triangle, p) in &new {
+        mesh.split_triangle(triangle, particles.positions.len() as u32);
+        particles.push(p, field);
+    }
     stats.population_time += t.elapsed();
-    !gone.is_empty() || !new.is_empty()
+    if !gone.is_empty() {
+        particles.remove(&gone);
+        return rebuild(particles, field, stats);
+    }
+    if new.is_empty() {
+        return repair(mesh, particles, field, stats);
+    }
+    // Keep memory in spatial order for the next iterations, then restore the criterion.
+    let new_index = particles.sort_spatially(field.domain());
+    mesh.renumber(&new_index);
+    repair(mesh, particles, field, stats)
 }
 
 /// Constants of the integration.
@@ -453,13 +552,15 @@ struct Dynamics {
 
 /// One Euler step of eq. 5 for every free particle: `v += Δt·(F − C_drag·v)`, `p += Δt·v`,
 /// a step never longer than a third of the particle's size `√det m`, positions kept inside the
-/// domain. Returns the largest step relative to that size. New positions go to a second
-/// buffer, so every particle sees the old positions of its neighbours (order-independent,
-/// hence the same result at any thread count).
+/// domain. Returns the largest step relative to that size.
+///
+/// The pair force is computed once per triangulation edge (in parallel, one slot per edge),
+/// then each particle gathers its edges' forces in a fixed order: no pair is computed twice,
+/// nothing is reduced in an order that depends on threads, so the result is the same at any
+/// thread count. New positions go to a second buffer, so every particle sees the old ones.
 fn relax_once(
     particles: &mut Particles,
-    offsets: &[u32],
-    list: &[u32],
+    edges: &Edges,
     field: &TensorField,
     dyn_: &Dynamics,
 ) -> f64 {
@@ -471,33 +572,54 @@ fn relax_once(
         inverses,
         velocities,
         scratch,
+        edge_forces,
+        looked_up,
         ..
     } = particles;
+    let (positions_now, inverses_now): (&[DVec2], &[Tensor]) = (positions, inverses);
+    edge_forces.resize(edges.ends.len(), DVec2::ZERO);
+    edge_forces
+        .par_iter_mut()
+        .zip(edges.ends.par_iter())
+        .for_each(|(f, &[a, b])| {
+            let (pa, pb) = (positions_now[a as usize], positions_now[b as usize]);
+            let d = distance::normalised_distance(
+                pa,
+                &inverses_now[a as usize],
+                pb,
+                &inverses_now[b as usize],
+            );
+            // Force on a: S·f(d)·ŷ·d_opt with ŷ·d_opt = (y/|y|)·(|y|/d) = y/d.
+            *f = if d > 0.0 {
+                (pa - pb) * (dyn_.scale * force_spline(d) / d)
+            } else {
+                DVec2::ZERO
+            };
+        });
+    let edge_forces: &[DVec2] = edge_forces;
     scratch.clear();
-    scratch.extend_from_slice(positions);
-    let positions_now: &[DVec2] = positions;
-    let inverses_now: &[Tensor] = inverses;
+    scratch.extend_from_slice(positions_now);
+    // One pass per particle: gather the edge forces, integrate, and look the metric up again
+    // when the particle has moved more than a small fraction of its size since the last
+    // look-up (the field is smooth at the scale of an ellipse). Only the particle's own slots
+    // are written, and every edge force was computed from the old state before this pass.
     let largest = scratch[fixed..]
         .par_iter_mut()
         .zip(velocities[fixed..].par_iter_mut())
-        .zip(metrics[fixed..].par_iter())
+        .zip(
+            metrics[fixed..]
+                .par_iter_mut()
+                .zip(inverses[fixed..].par_iter_mut()),
+        )
+        .zip(looked_up[fixed..].par_iter_mut())
         .enumerate()
-        .map(|(k, ((next, v), m))| {
+        .map(|(k, (((next, v), (m, inv)), at))| {
             let i = fixed + k;
             let p = positions_now[i];
             let mut force = DVec2::ZERO;
-            for &j in &list[offsets[i] as usize..offsets[i + 1] as usize] {
-                let q = positions_now[j as usize];
-                let d = distance::normalised_distance(
-                    p,
-                    &inverses_now[i],
-                    q,
-                    &inverses_now[j as usize],
-                );
-                if d > 0.0 {
-                    // S·f(d)·ŷ·d_opt with ŷ·d_opt = (y/|y|)·(|y|/d) = y/d.
-                    force += (p - q) * (dyn_.scale * force_spline(d) / d);
-                }
+            for &x in &edges.incident[edges.offsets[i] as usize..edges.offsets[i + 1] as usize] {
+                let f = edge_forces[(x >> 1) as usize];
+                force += if x & 1 == 0 { f } else { -f };
             }
             *v += (force - *v * dyn_.drag) * dyn_.dt;
             let size = m.det().sqrt();
@@ -508,17 +630,21 @@ fn relax_once(
             }
             let margin = 1e-6 * size.max(1e-3);
             *next = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
+            if (*next - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
+                *m = field.sample(*next);
+                *inv = m.inverse().unwrap_or_default();
+                *at = *next;
+            }
             (*next - p).length() / size.max(1e-12)
         })
         .reduce(|| 0.0, f64::max);
     std::mem::swap(positions, scratch);
-    metrics[fixed..]
-        .par_iter_mut()
-        .zip(inverses[fixed..].par_iter_mut())
-        .zip(positions[fixed..].par_iter())
-        .for_each(|((m, inv), &p)| {
-            *m = field.sample(p);
-            *inv = m.inverse().unwrap_or_default();
-        });
     largest
 }
+
+/// A quad is checked again at a repair once one of its particles has moved this fraction of
+/// its size since the previous repair.
+const MESH_REFRESH: f64 = 0.02;
+
+/// A particle's metric is looked up again once it has moved this fraction of its size.
+const METRIC_REFRESH: f64 = 0.01;

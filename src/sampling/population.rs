@@ -12,7 +12,7 @@
 //! (its *pressure*, `Σ max(f(d), 0)`), exceed a threshold. The most pressed go first, and a
 //! sample next to one deleted in the same round is spared. Boundary samples are never deleted.
 
-use super::delaunay::AnisotropicDelaunay;
+use super::delaunay::{AnisotropicDelaunay, Edges};
 use super::distance::normalised_distance;
 use super::force::force_spline;
 use crate::field::{Tensor, TensorField};
@@ -50,8 +50,8 @@ pub fn fill_rate(p: [DVec2; 3], m: [Tensor; 3], metric: &TensorField) -> f64 {
     covered / area
 }
 
-/// Barycentres of the triangles whose fill rate is at most `threshold`, at most one per sample
-/// per round, in triangle order (deterministic).
+/// Triangles whose fill rate is at most `threshold` and their barycentres, at most one
+/// touching each sample per round, in triangle order (deterministic).
 #[must_use]
 pub fn insertion_points(
     mesh: &AnisotropicDelaunay,
@@ -59,10 +59,10 @@ pub fn insertion_points(
     metrics: &[Tensor],
     metric: &TensorField,
     threshold: f64,
-) -> Vec<DVec2> {
+) -> Vec<(usize, DVec2)> {
     let mut touched = vec![false; positions.len()];
     let mut out = Vec::new();
-    for [a, b, c] in mesh.triangles() {
+    for (t, [a, b, c]) in mesh.triangles().enumerate() {
         let (a, b, c) = (a as usize, b as usize, c as usize);
         if touched[a] || touched[b] || touched[c] {
             continue;
@@ -74,7 +74,7 @@ pub fn insertion_points(
             touched[a] = true;
             touched[b] = true;
             touched[c] = true;
-            out.push((p[0] + p[1] + p[2]) / 3.0);
+            out.push((t, (p[0] + p[1] + p[2]) / 3.0));
         }
     }
     out
@@ -100,41 +100,35 @@ fn has_room(p: [DVec2; 3], m: [Tensor; 3], metric: &TensorField) -> bool {
 /// hexagonal estimate.
 pub const INSERT_MIN_DISTANCE: f64 = 0.65;
 
-/// Pressure `Σ max(f(d), 0)` of every sample over its neighbours (compressed rows).
+/// Pressure `Σ max(f(d), 0)` of every sample over its triangulation neighbours: the spline is
+/// evaluated once per edge, then gathered per sample in a fixed order.
 #[must_use]
-pub fn pressures(
-    positions: &[DVec2],
-    inverses: &[Tensor],
-    offsets: &[u32],
-    list: &[u32],
-) -> Vec<f64> {
+pub fn pressures(positions: &[DVec2], inverses: &[Tensor], edges: &Edges) -> Vec<f64> {
     use rayon::prelude::*;
+    let per_edge: Vec<f64> = edges
+        .ends
+        .par_iter()
+        .map(|&[a, b]| {
+            let (a, b) = (a as usize, b as usize);
+            force_spline(normalised_distance(
+                positions[a],
+                &inverses[a],
+                positions[b],
+                &inverses[b],
+            ))
+            .max(0.0)
+        })
+        .collect();
     (0..positions.len())
         .into_par_iter()
-        .map(|i| {
-            list[offsets[i] as usize..offsets[i + 1] as usize]
-                .iter()
-                .map(|&j| {
-                    let j = j as usize;
-                    let d =
-                        normalised_distance(positions[i], &inverses[i], positions[j], &inverses[j]);
-                    force_spline(d).max(0.0)
-                })
-                .sum()
-        })
+        .map(|i| edges.at(i).map(|(e, _)| per_edge[e]).sum())
         .collect()
 }
 
 /// Interior samples (index ≥ `fixed`) to delete: pressure above `threshold`, most pressed
 /// first, never two neighbours in one round. Returned sorted by index.
 #[must_use]
-pub fn deletions(
-    pressure: &[f64],
-    fixed: usize,
-    offsets: &[u32],
-    list: &[u32],
-    threshold: f64,
-) -> Vec<u32> {
+pub fn deletions(pressure: &[f64], fixed: usize, edges: &Edges, threshold: f64) -> Vec<u32> {
     let mut candidates: Vec<u32> = (fixed..pressure.len())
         .filter(|&i| pressure[i] > threshold)
         .map(|i| i as u32)
@@ -152,7 +146,7 @@ pub fn deletions(
             continue;
         }
         out.push(c as u32);
-        for &n in &list[offsets[c] as usize..offsets[c + 1] as usize] {
+        for (_, n) in edges.at(c) {
             spared[n as usize] = true;
         }
     }
@@ -186,13 +180,9 @@ mod tests {
     #[test]
     fn deletions_spare_neighbours() {
         // Path 0 - 1 - 2 - 3, pressures make 1 and 2 candidates; only the higher goes.
-        let offsets = [0, 1, 3, 5, 6];
-        let list = [1, 0, 2, 1, 3, 2];
+        let edges = Edges::from_ends(vec![[0, 1], [1, 2], [2, 3]], 4);
         let pressure = [0.0, 3.0, 4.0, 0.0];
-        assert_eq!(deletions(&pressure, 0, &offsets, &list, 1.0), vec![2]);
-        assert_eq!(
-            deletions(&pressure, 3, &offsets, &list, 1.0),
-            Vec::<u32>::new()
-        );
+        assert_eq!(deletions(&pressure, 0, &edges, 1.0), vec![2]);
+        assert_eq!(deletions(&pressure, 3, &edges, 1.0), Vec::<u32>::new());
     }
 }

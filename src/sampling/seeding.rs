@@ -63,14 +63,24 @@ fn node_area(metric: &TensorField) -> f64 {
     d.x * d.y / (metric.cols() * metric.rows()) as f64
 }
 
-/// A uniform grid of cells, each holding a linked list of sample indices (flat arrays: one
-/// head per cell, one (sample, next) entry per registration).
+/// A uniform grid of cells, each holding a linked list of registrations (flat arrays: one
+/// head per cell, one [`Entry`] per registration).
 struct CellGrid {
     cell: f64,
     cols: usize,
     rows: usize,
     head: Vec<u32>,
-    entries: Vec<(u32, u32)>,
+    entries: Vec<Entry>,
+}
+
+/// One registration of a sample in a cell. The position and long semi-axis are kept inline,
+/// so the cheap disc test needs no further look-up (the walk is bound by memory latency).
+#[derive(Clone, Copy)]
+struct Entry {
+    position: DVec2,
+    long: f64,
+    id: u32,
+    next: u32,
 }
 
 const END: u32 = u32::MAX;
@@ -90,7 +100,8 @@ impl CellGrid {
 
     /// Cell index ranges touched by the disc of `radius` about `p`.
     fn cells(&self, p: DVec2, radius: f64) -> (usize, usize, usize, usize) {
-        let lo = |v: f64, n: usize| ((v / self.cell).floor().max(0.0) as usize).min(n - 1);
+        // `as` saturates negative values to 0 and truncates the rest: floor for v ≥ 0.
+        let lo = |v: f64, n: usize| ((v / self.cell).max(0.0) as usize).min(n - 1);
         (
             lo(p.x - radius, self.cols),
             lo(p.x + radius, self.cols),
@@ -99,12 +110,19 @@ impl CellGrid {
         )
     }
 
-    fn insert(&mut self, id: u32, p: DVec2, radius: f64) {
+    /// Registers sample `id` at `p` with long semi-axis `long` in every cell its disc of
+    /// radius `radius` touches.
+    fn insert(&mut self, id: u32, p: DVec2, long: f64, radius: f64) {
         let (x0, x1, y0, y1) = self.cells(p, radius);
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let c = y * self.cols + x;
-                self.entries.push((id, self.head[c]));
+                self.entries.push(Entry {
+                    position: p,
+                    long,
+                    id,
+                    next: self.head[c],
+                });
                 self.head[c] = (self.entries.len() - 1) as u32;
             }
         }
@@ -124,7 +142,7 @@ pub fn relaxation_dart_throwing(
 ) -> (Vec<DVec2>, f64) {
     let sampler = DensitySampler::new(metric);
     // The long semi-axis, without the angle.
-    let long_axis = |t: &Tensor| 0.5 * (t.xx + t.yy) + (0.5 * (t.xx - t.yy)).hypot(t.xy);
+    let long_axis = long_semi_axis;
     let mut cell = median_long_axis(metric);
     // Keep the grid to a few million cells even for extreme fields.
     let d = metric.domain();
@@ -133,56 +151,81 @@ pub fn relaxation_dart_throwing(
 
     let mut positions: Vec<DVec2> = Vec::with_capacity(fixed.len() + target);
     let mut inverses: Vec<Tensor> = Vec::with_capacity(fixed.len() + target);
-    let mut long: Vec<f64> = Vec::with_capacity(fixed.len() + target);
     let mut rho = params.rho_start;
     for &p in fixed {
         let m = metric.sample(p);
-        grid.insert(positions.len() as u32, p, params.rho_start * long_axis(&m));
+        let a = long_axis(&m);
+        grid.insert(positions.len() as u32, p, a, params.rho_start * a);
         positions.push(p);
         inverses.push(m.inverse().unwrap_or_default());
-        long.push(long_axis(&m));
     }
     let (mut accepted, mut rejected) = (0u64, 0u64);
     let mut interior = 0usize;
     let max_darts = 400 * target as u64 + 100_000;
     let mut darts = 0u64;
-    while interior < target && darts < max_darts {
-        darts += 1;
-        let c = sampler.draw(rng);
-        let m = metric.sample(c);
-        let Some(inv) = m.inverse() else { continue };
-        let a = long_axis(&m);
-        if accepted + rejected == WINDOW {
-            if (accepted as f64) < params.epsilon * rejected as f64 {
-                if rho <= params.rho_min + 1e-12 {
-                    break;
-                }
-                rho = (rho - params.rho_step).max(params.rho_min);
+    // Darts are drawn in batches and thrown in Morton order within a batch, so the grid and
+    // the field are read mostly in order. A batch is small next to the target count (at most a
+    // sixteenth), so its darts rarely compete with each other and the order does not show.
+    let batch_size = (target / 16).clamp(64, 4096);
+    let mut batch: Vec<(u32, DVec2)> = Vec::with_capacity(batch_size);
+    let domain = metric.domain();
+    'throwing: while interior < target && darts < max_darts {
+        batch.clear();
+        batch.extend((0..batch_size).map(|_| {
+            let c = sampler.draw(rng);
+            (morton_key(c, domain), c)
+        }));
+        batch.sort_unstable_by_key(|&(k, _)| k);
+        for &(_, c) in &batch {
+            if interior >= target {
+                break 'throwing;
             }
-            accepted = 0;
-            rejected = 0;
+            darts += 1;
+            let m = metric.sample(c);
+            let Some(inv) = m.inverse() else { continue };
+            let a = long_axis(&m);
+            if accepted + rejected == WINDOW {
+                if (accepted as f64) < params.epsilon * rejected as f64 {
+                    if rho <= params.rho_min + 1e-12 {
+                        break 'throwing;
+                    }
+                    rho = (rho - params.rho_step).max(params.rho_min);
+                }
+                accepted = 0;
+                rejected = 0;
+            }
+            if conflicts(&grid, &inverses, c, &inv, a, rho) {
+                rejected += 1;
+                continue;
+            }
+            accepted += 1;
+            grid.insert(positions.len() as u32, c, a, params.rho_start * a);
+            positions.push(c);
+            inverses.push(inv);
+            interior += 1;
         }
-        if conflicts(&grid, &positions, &inverses, &long, c, &inv, a, rho) {
-            rejected += 1;
-            continue;
-        }
-        accepted += 1;
-        grid.insert(positions.len() as u32, c, params.rho_start * a);
-        positions.push(c);
-        inverses.push(inv);
-        long.push(a);
-        interior += 1;
     }
     (positions.split_off(fixed.len()), rho)
 }
 
+/// Morton (Z-curve) key of `p` in `domain`, 16 bits per axis.
+#[must_use]
+pub fn morton_key(p: DVec2, domain: DVec2) -> u32 {
+    let q = |v: f64, extent: f64| ((v / extent).clamp(0.0, 1.0) * 65535.0) as u32;
+    let spread = |mut v: u32| {
+        v &= 0xffff;
+        v = (v | (v << 8)) & 0x00ff_00ff;
+        v = (v | (v << 4)) & 0x0f0f_0f0f;
+        v = (v | (v << 2)) & 0x3333_3333;
+        (v | (v << 1)) & 0x5555_5555
+    };
+    spread(q(p.x, domain.x)) | (spread(q(p.y, domain.y)) << 1)
+}
+
 /// Whether a candidate at `c` is closer than `rho` (normalised) to any registered sample.
-#[allow(clippy::too_many_arguments)]
 fn conflicts(
     grid: &CellGrid,
-    positions: &[DVec2],
     inverses: &[Tensor],
-    long: &[f64],
     c: DVec2,
     inv: &Tensor,
     a: f64,
@@ -193,20 +236,27 @@ fn conflicts(
         for x in x0..=x1 {
             let mut e = grid.head[y * grid.cols + x];
             while e != END {
-                let (id, next) = grid.entries[e as usize];
-                let id = id as usize;
-                let p = positions[id];
+                let entry = grid.entries[e as usize];
+                let p = entry.position;
                 // Cheap bound first: the discs of radius ρ·a must overlap.
-                if (p - c).length_squared() < (rho * (a + long[id])).powi(2)
-                    && normalised_distance(c, inv, p, &inverses[id]) < rho
+                if (p - c).length_squared() < (rho * (a + entry.long)).powi(2)
+                    && normalised_distance(c, inv, p, &inverses[entry.id as usize]) < rho
                 {
                     return true;
                 }
-                e = next;
+                e = entry.next;
             }
         }
     }
     false
+}
+
+/// The larger eigenvalue of a metric (its long semi-axis), without the angle.
+#[inline]
+#[must_use]
+pub fn long_semi_axis(t: &Tensor) -> f64 {
+    let half_diff = 0.5 * (t.xx - t.yy);
+    0.5 * (t.xx + t.yy) + (half_diff * half_diff + t.xy * t.xy).sqrt()
 }
 
 /// Median long semi-axis of the field (a sample of its nodes), the grid's cell size.
@@ -216,7 +266,7 @@ fn median_long_axis(metric: &TensorField) -> f64 {
         .data()
         .iter()
         .step_by(step)
-        .map(|&c| Tensor::from_f32(c).eigen().l1)
+        .map(|&c| long_semi_axis(&Tensor::from_f32(c)))
         .filter(|v| v.is_finite() && *v > 0.0)
         .collect();
     if v.is_empty() {
@@ -234,40 +284,59 @@ pub fn random_positions(metric: &TensorField, n: usize, rng: &mut Rng) -> Vec<DV
     (0..n).map(|_| sampler.draw(rng)).collect()
 }
 
-/// Draws points with density proportional to `1/det m` over the domain: a grid node by its
-/// cumulative weight, then a uniform point within the node's cell.
+/// Draws points with density proportional to `1/det m` over the domain: a grid node by
+/// Walker's alias method (constant time, one table look-up), then a uniform point within the
+/// node's cell.
 struct DensitySampler {
-    cumulative: Vec<f64>,
+    /// Probability of keeping node `i` rather than taking `alias[i]`.
+    keep: Vec<f32>,
+    alias: Vec<u32>,
     cols: usize,
     cell: DVec2,
 }
 
 impl DensitySampler {
     fn new(metric: &TensorField) -> Self {
-        let mut total = 0.0;
-        let cumulative = metric
+        let weights: Vec<f64> = metric
             .data()
             .iter()
-            .map(|&c| {
-                total += 1.0 / Tensor::from_f32(c).det();
-                total
-            })
+            .map(|&c| 1.0 / Tensor::from_f32(c).det())
             .collect();
+        let n = weights.len();
+        let total: f64 = weights.iter().sum();
+        // Vose's construction: scaled weights, then pair each small one with a large one.
+        let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
+        let mut keep = vec![1.0f32; n];
+        let mut alias: Vec<u32> = (0..n as u32).collect();
+        let (mut small, mut large): (Vec<u32>, Vec<u32>) =
+            (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
+        while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
+            keep[s as usize] = scaled[s as usize] as f32;
+            alias[s as usize] = l;
+            scaled[l as usize] -= 1.0 - scaled[s as usize];
+            if scaled[l as usize] < 1.0 {
+                large.pop();
+                small.push(l);
+            }
+        }
         let d = metric.domain();
         DensitySampler {
-            cumulative,
+            keep,
+            alias,
             cols: metric.cols(),
             cell: DVec2::new(d.x / metric.cols() as f64, d.y / metric.rows() as f64),
         }
     }
 
     fn draw(&self, rng: &mut Rng) -> DVec2 {
-        let total = *self.cumulative.last().unwrap_or(&0.0);
-        let u = rng.uniform() * total;
-        let i = self
-            .cumulative
-            .partition_point(|&c| c <= u)
-            .min(self.cumulative.len() - 1);
+        let n = self.keep.len();
+        let u = rng.uniform() * n as f64;
+        let i = (u as usize).min(n - 1);
+        let i = if (u - i as f64) < f64::from(self.keep[i]) {
+            i
+        } else {
+            self.alias[i] as usize
+        };
         let (c, r) = (i % self.cols, i / self.cols);
         DVec2::new(
             (c as f64 + rng.uniform()) * self.cell.x,
@@ -286,6 +355,20 @@ mod tests {
         let metric = TensorField::constant(300, 200, m);
         let want = 300.0 * 200.0 / (2.0 * 3f64.sqrt() * 12.0);
         assert!((estimate_count(&metric) - want).abs() < 1e-6 * want);
+    }
+
+    #[test]
+    fn density_sampler_follows_inverse_determinant() {
+        // Left half: ellipses of area 4x those on the right, so 1/4 of the density.
+        let metric = TensorField::from_fn(40, 10, |p| {
+            Tensor::isotropic(if p.x < 20.0 { 2.0 } else { 1.0 })
+        });
+        let sampler = DensitySampler::new(&metric);
+        let mut rng = Rng::new(4, 0);
+        let n = 200_000;
+        let left = (0..n).filter(|_| sampler.draw(&mut rng).x < 20.0).count();
+        let want = n as f64 * 0.25 / 1.25;
+        assert!((left as f64 - want).abs() < 0.02 * want, "{left} vs {want}");
     }
 
     #[test]

@@ -1,0 +1,101 @@
+//! Speed of the sampler (issue targets on two cores: N = 10 k on a photo's metric, seeding
+//! ≤ 0.15 s and 100 iterations with triangulation updates ≤ 0.15 s; N = 100 k end to end
+//! ≤ 3 s; N = 1 M ≤ 40 s; per-iteration cost linear in N).
+//!
+//! Run: `cargo bench --bench sampling`. Stage times come from the sampler's own stats through
+//! `iter_custom`, so "iterations" excludes seeding. The 1 M case takes about 40 s per run and
+//! is measured only with `ANISOPAINT_BENCH_1M=1`.
+
+use anisopaint::field::{photo_metric, AnalyticField, MetricParams, TensorField};
+use anisopaint::sampling::{self, SamplerParams};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use std::time::Duration;
+
+/// The astronaut's metric with cell sizes scaled so that it needs about `n` samples.
+fn photo_field(n: f64) -> TensorField {
+    let photo = image::open("samples/astronaut.jpg").expect("samples/astronaut.jpg");
+    let mut params = MetricParams::default();
+    let (_, probe) = photo_metric(&photo, &params);
+    let k = (sampling::seeding::estimate_count(&probe) / n).sqrt();
+    params.min_size *= k;
+    params.max_size *= k;
+    photo_metric(&photo, &params).1
+}
+
+/// A constant isotropic field on a `side²` domain needing about `n` samples.
+fn constant_field(n: f64, side: usize) -> TensorField {
+    let diag = (2.0f64).sqrt() * side as f64;
+    let radius = ((side * side) as f64 / (2.0 * 3f64.sqrt() * n)).sqrt();
+    AnalyticField::parse(&format!("constant:size={}", radius / diag))
+        .unwrap()
+        .field(side, side)
+}
+
+fn stage(
+    field: &TensorField,
+    pick: fn(&sampling::Stats) -> Duration,
+) -> impl FnMut(u64) -> Duration + '_ {
+    move |iters| {
+        (0..iters)
+            .map(|_| {
+                pick(
+                    &sampling::sample(field, &SamplerParams::default())
+                        .unwrap()
+                        .stats,
+                )
+            })
+            .sum()
+    }
+}
+
+fn photo_10k(c: &mut Criterion) {
+    let field = photo_field(10_000.0);
+    let mut g = c.benchmark_group("photo_metric_10k");
+    g.sample_size(10);
+    g.bench_function("seeding", |b| {
+        b.iter_custom(stage(&field, |s| s.seeding_time))
+    });
+    g.bench_function("100_iterations", |b| {
+        b.iter_custom(stage(&field, |s| {
+            s.relaxation_time + s.triangulation_time + s.population_time
+        }))
+    });
+    g.finish();
+}
+
+fn scaling(c: &mut Criterion) {
+    let mut sizes = vec![(10_000.0, 1024), (100_000.0, 1024)];
+    if std::env::var_os("ANISOPAINT_BENCH_1M").is_some() {
+        sizes.push((1_000_000.0, 2048));
+    }
+    let mut g = c.benchmark_group("constant_field");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(20));
+    for (n, side) in sizes {
+        let field = constant_field(n, side);
+        g.bench_with_input(BenchmarkId::new("end_to_end", n as u64), &field, |b, f| {
+            b.iter(|| sampling::sample(f, &SamplerParams::default()).unwrap())
+        });
+        g.bench_with_input(
+            BenchmarkId::new("per_iteration", n as u64),
+            &field,
+            |b, f| {
+                b.iter_custom(|iters| {
+                    (0..iters)
+                        .map(|_| {
+                            let s = sampling::sample(f, &SamplerParams::default())
+                                .unwrap()
+                                .stats;
+                            (s.relaxation_time + s.triangulation_time + s.population_time)
+                                / s.iterations.max(1) as u32
+                        })
+                        .sum()
+                })
+            },
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, photo_10k, scaling);
+criterion_main!(benches);

@@ -1,0 +1,272 @@
+//! The sampler against the quality targets of its issue, each measured by an independent
+//! evaluator written here: brute-force nearest neighbours over all pairs, coverage and overlap
+//! on a raster, spade's own Delaunay triangulation as the oracle for the anisotropic one, and
+//! random placement and the seed alone as baselines that must score clearly worse.
+
+use anisopaint::field::{self, AnalyticField, FieldOptions, Input, Tensor, TensorField};
+use anisopaint::sampling::{
+    self, quality, rng::Rng, seeding, AnisotropicDelaunay, SamplerParams, Sampling,
+};
+use glam::DVec2;
+use std::collections::BTreeSet;
+
+fn analytic(spec: &str, w: usize, h: usize) -> TensorField {
+    let a = AnalyticField::parse(spec).unwrap();
+    let raw = a.field(w, h);
+    if a.is_metric() {
+        raw
+    } else {
+        field::metric::metric_from_general(&raw, &field::MappingParams::default())
+    }
+}
+
+fn photo_metric(path: &str) -> TensorField {
+    let options = FieldOptions::default();
+    field::load_field(&Input::parse(path).unwrap(), &options)
+        .unwrap()
+        .metric
+}
+
+/// Brute-force nearest-neighbour summary, coverage and overlap of a sampling.
+fn evaluate(s: &Sampling, field: &TensorField) -> quality::Quality {
+    let nn = quality::brute_force_nearest(&s.positions, &s.metrics);
+    let mut q = quality::summarize(&nn);
+    let (coverage, overlap) =
+        quality::coverage_and_overlap(&s.positions, &s.metrics, field.domain());
+    q.count = s.positions.len();
+    q.coverage = coverage;
+    q.overlap = overlap;
+    q
+}
+
+fn check_inside(s: &Sampling, field: &TensorField) {
+    let d = field.domain();
+    for (p, m) in s.positions.iter().zip(&s.metrics) {
+        assert!(
+            p.x.is_finite() && p.y.is_finite() && m.is_finite(),
+            "{p:?} {m:?}"
+        );
+        assert!(
+            p.x >= 0.0 && p.y >= 0.0 && p.x <= d.x && p.y <= d.y,
+            "outside: {p:?}"
+        );
+    }
+    s.mesh.sanity_check(&s.positions, &[]).unwrap();
+}
+
+/// The bounds the issue sets for constant fields.
+fn assert_constant_field_targets(q: &quality::Quality, estimate: f64, what: &str) {
+    assert!(
+        (0.95..=1.05).contains(&q.nn_mean),
+        "{what}: nn mean {}",
+        q.nn_mean
+    );
+    assert!(q.nn_p5 >= 0.90, "{what}: nn p5 {}", q.nn_p5);
+    assert!(q.nn_min >= 0.80, "{what}: nn min {}", q.nn_min);
+    assert!(q.coverage >= 0.87, "{what}: coverage {}", q.coverage);
+    assert!(q.overlap <= 0.01, "{what}: overlap {}", q.overlap);
+    let ratio = q.count as f64 / estimate;
+    assert!(
+        (0.9..=1.1).contains(&ratio),
+        "{what}: {} samples for {estimate:.0}",
+        q.count
+    );
+}
+
+#[test]
+fn constant_isotropic_field_meets_the_targets() {
+    let field = analytic("constant:size=0.01", 512, 512);
+    for seed in [0, 1] {
+        let params = SamplerParams {
+            seed,
+            ..SamplerParams::default()
+        };
+        let s = sampling::sample(&field, &params).unwrap();
+        check_inside(&s, &field);
+        let q = evaluate(&s, &field);
+        assert_constant_field_targets(&q, s.stats.estimated_count, &format!("seed {seed}"));
+    }
+}
+
+#[test]
+fn constant_anisotropic_field_meets_the_targets_and_matches_spade() {
+    let field = analytic("constant:size=0.008,angle=30,anisotropy=4", 480, 400);
+    let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+    check_inside(&s, &field);
+    let q = evaluate(&s, &field);
+    assert_constant_field_targets(&q, s.stats.estimated_count, "4:1 at 30°");
+
+    // Oracle: spade's Delaunay triangulation of the points mapped by m⁻¹.
+    let inv = field.node(0, 0).inverse().unwrap();
+    let mapped: Vec<DVec2> = s.positions.iter().map(|&p| inv.mul_vec(p)).collect();
+    let (oracle, missing) = AnisotropicDelaunay::isotropic(&mapped);
+    assert!(missing.is_empty());
+    // Edges between two boundary samples are left out: mapped by m⁻¹, the samples of one
+    // domain edge are collinear only up to rounding, and spade then adds slivers along it.
+    let fixed = s.fixed as u32;
+    let edges = |m: &AnisotropicDelaunay| -> BTreeSet<(u32, u32)> {
+        m.triangles()
+            .flat_map(|[a, b, c]| [(a, b), (b, c), (c, a)])
+            .map(|(x, y)| (x.min(y), x.max(y)))
+            .filter(|&(_, y)| y >= fixed)
+            .collect()
+    };
+    let (ours, theirs) = (edges(&s.mesh), edges(&oracle));
+    // Equal up to cocircular ties: a tie is a quad whose four mapped points are cocircular,
+    // where either diagonal is Delaunay. Check every difference is such a tie.
+    let mine_only: Vec<_> = ours.difference(&theirs).collect();
+    let theirs_only: Vec<_> = theirs.difference(&ours).collect();
+    assert_eq!(mine_only.len(), theirs_only.len());
+    for &&(a, b) in &mine_only {
+        let quad: Vec<DVec2> = [a, b].iter().map(|&v| mapped[v as usize]).collect();
+        // Find the two opposite vertices in our mesh.
+        let opposite: Vec<DVec2> = s
+            .mesh
+            .triangles()
+            .filter(|t| t.contains(&a) && t.contains(&b))
+            .map(|t| mapped[*t.iter().find(|&&v| v != a && v != b).unwrap() as usize])
+            .collect();
+        assert_eq!(opposite.len(), 2);
+        let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
+        let det = robust::incircle(c(quad[0]), c(quad[1]), c(opposite[0]), c(opposite[1]));
+        assert!(
+            det.abs() < 1e-6,
+            "edge {a}-{b} differs from spade and is no tie ({det})"
+        );
+    }
+}
+
+#[test]
+fn varying_fields_pack_without_holes_or_overlaps() {
+    let cases = [
+        ("degenerate-point", analytic("degenerate-point", 400, 400)),
+        ("two-point-load", analytic("two-point-load", 450, 300)),
+        ("astronaut", photo_metric("samples/astronaut.jpg")),
+        ("chelsea", photo_metric("samples/chelsea.png")),
+        ("coffee", photo_metric("samples/coffee.png")),
+    ];
+    for (name, field) in cases {
+        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        check_inside(&s, &field);
+        let q = evaluate(&s, &field);
+        assert!(q.coverage >= 0.85, "{name}: coverage {}", q.coverage);
+        assert!(q.overlap <= 0.02, "{name}: overlap {}", q.overlap);
+        assert_eq!(s.stats.flip_cap_hits, 0, "{name}: flip cap hit");
+    }
+}
+
+#[test]
+fn relaxed_beats_random_placement_and_the_seed_alone() {
+    let field = photo_metric("samples/chelsea.png");
+    let relaxed = sampling::sample(&field, &SamplerParams::default()).unwrap();
+    let seeded = sampling::sample(
+        &field,
+        &SamplerParams {
+            iterations: 0,
+            ..SamplerParams::default()
+        },
+    )
+    .unwrap();
+    let random_positions =
+        seeding::random_positions(&field, relaxed.positions.len(), &mut Rng::new(5, 1));
+    let random_metrics: Vec<Tensor> = random_positions.iter().map(|&p| field.sample(p)).collect();
+    let nn = quality::brute_force_nearest(&random_positions, &random_metrics);
+    let mut random = quality::summarize(&nn);
+    (random.coverage, random.overlap) =
+        quality::coverage_and_overlap(&random_positions, &random_metrics, field.domain());
+
+    let (r, s, x) = (
+        evaluate(&relaxed, &field),
+        evaluate(&seeded, &field),
+        random,
+    );
+    assert!(
+        r.coverage > s.coverage + 0.05 && r.coverage > x.coverage + 0.15,
+        "{r:?} {s:?} {x:?}"
+    );
+    assert!(r.overlap < x.overlap / 5.0, "{r:?} {x:?}");
+    assert!(
+        r.nn_p5 > x.nn_p5 + 0.3 && r.nn_p5 > s.nn_p5,
+        "{r:?} {s:?} {x:?}"
+    );
+    assert!(
+        (r.nn_mean - 1.0).abs() < (s.nn_mean - 1.0).abs(),
+        "{r:?} {s:?}"
+    );
+}
+
+#[test]
+fn one_ring_nearest_neighbours_agree_with_brute_force() {
+    let field = photo_metric("samples/coffee.png");
+    let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+    let reported = quality::measure(&s.positions, &s.metrics, &s.mesh, &field);
+    let brute = quality::summarize(&quality::brute_force_nearest(&s.positions, &s.metrics));
+    assert!((reported.nn_min - brute.nn_min).abs() < 1e-12);
+    assert!((reported.nn_p5 - brute.nn_p5).abs() < 1e-12);
+    assert!((reported.nn_mean - brute.nn_mean).abs() < 1e-9);
+}
+
+#[test]
+fn same_seed_same_samples_at_any_thread_count() {
+    let field = analytic("degenerate-point", 300, 260);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| sampling::sample(&field, &SamplerParams::default()).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    let bits = |s: &Sampling| -> Vec<u64> {
+        s.positions
+            .iter()
+            .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+            .collect()
+    };
+    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(
+        one.mesh.triangles().collect::<Vec<_>>(),
+        two.mesh.triangles().collect::<Vec<_>>()
+    );
+    let other_seed = sampling::sample(
+        &field,
+        &SamplerParams {
+            seed: 9,
+            ..SamplerParams::default()
+        },
+    )
+    .unwrap();
+    assert_ne!(bits(&one), bits(&other_seed));
+}
+
+#[test]
+fn unusable_fields_are_refused_before_any_work() {
+    let mut bad = TensorField::constant(20, 10, Tensor::isotropic(3.0));
+    bad.data_mut()[15] = [f32::NAN, 0.0, 1.0];
+    let err = sampling::sample(&bad, &SamplerParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("pixel (15, 0)"), "{err}");
+    bad.data_mut()[15] = [-1.0, 0.0, 1.0];
+    assert!(sampling::sample(&bad, &SamplerParams::default()).is_err());
+    bad.data_mut()[15] = [0.0, 0.0, 0.0];
+    assert!(sampling::sample(&bad, &SamplerParams::default()).is_err());
+    bad.data_mut()[15] = [1e9, 0.0, 1.0];
+    assert!(sampling::sample(&bad, &SamplerParams::default()).is_err());
+    // Tiny ellipses: far too many samples for the limit.
+    let tiny = TensorField::constant(4000, 3000, Tensor::isotropic(0.05));
+    let err = sampling::sample(&tiny, &SamplerParams::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("--max-samples"), "{err}");
+}
+
+#[test]
+fn tiny_domains_work() {
+    for (w, h) in [(1, 1), (1, 40), (40, 1), (3, 3)] {
+        let field = TensorField::constant(w, h, Tensor::isotropic(0.8));
+        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        assert!(s.positions.len() >= 4, "{w}x{h}");
+        assert!(s.positions.iter().all(|p| p.is_finite()));
+    }
+}
