@@ -537,15 +537,6 @@ fn compute_twins(origin: &[u32], num_vertices: usize) -> Vec<u32> {
     twin
 }
 
-/// The inverse metric of every point, for callers that cache it.
-#[must_use]
-pub fn inverse_metrics(points: &[DVec2], metric: &TensorField) -> Vec<Tensor> {
-    points
-        .iter()
-        .map(|&p| metric.sample(p).inverse().unwrap_or(Tensor::IDENTITY))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
