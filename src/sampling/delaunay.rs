@@ -11,7 +11,7 @@
 //! capped and cap hits are counted. For a constant metric the result is the Delaunay
 //! triangulation of the points mapped by `m⁻¹`, which the tests check against spade itself.
 
-use crate::field::{Tensor, TensorField};
+use crate::field::TensorField;
 use glam::DVec2;
 use robust::Coord;
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
@@ -540,6 +540,7 @@ fn compute_twins(origin: &[u32], num_vertices: usize) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::field::Tensor;
     use crate::sampling::rng::Rng;
     use std::collections::BTreeSet;
 
