@@ -1,9 +1,9 @@
 //! Automatic insert and delete operations (paper section 5.5).
 //!
-//! Insert: per triangle of the anisotropic Delaunay triangulation, the `fill_rate` is computed
-//! in the isotropic space of `m(q)⁻¹`, `q` the triangle's barycentre: each corner's ellipse
-//! becomes (approximately) a disc of radius `√(det m_i / det m_q)`, and the fill rate is the area
-//! of the three corner sectors over the triangle's area (hexagonal packing: `π/(2√3) ≈ 0.907`).
+//! Insert: per triangle of the anisotropic Delaunay triangulation, the [`fill_rate`] is the
+//! area of the three corner sectors of the corners' ellipses over the triangle's area
+//! (hexagonal packing: `π/(2√3) ≈ 0.907`), the paper's isotropic-space measure computed with
+//! exact elliptical sectors (see [`fill_rate`]).
 //! A new sample goes to `q` when the fill rate is at most the threshold (0.6 in the paper) and
 //! there is room for it ([`INSERT_MIN_DISTANCE`]). At most one insertion touches each sample
 //! per round, so two neighbouring empty triangles do not both receive one.
@@ -21,31 +21,31 @@ use glam::DVec2;
 /// The optimal fill rate of hexagonally packed discs, `π / (2√3)`.
 pub const OPTIMAL_FILL_RATE: f64 = std::f64::consts::PI / (2.0 * 1.732_050_807_568_877_2);
 
-/// Fill rate of the triangle `a, b, c` with metrics `ma, mb, mc`, in the isotropic space of
-/// the metric at its barycentre.
+/// Fill rate of the triangle `p` whose corners carry the metrics `m`: the area of the three
+/// corner sectors of the corners' ellipses over the triangle's area.
+///
+/// The paper measures this in the isotropic space of `m(q)⁻¹`, `q` the barycentre, where it
+/// approximates each corner's ellipse by a disc. Here the sectors are exact instead: mapped by
+/// `m_i⁻¹` the ellipse of corner `i` is the unit disc, so its sector between the two edges has
+/// area `½·det(m_i)·θ_i`, with `θ_i` the angle between `m_i⁻¹e₁` and `m_i⁻¹e₂`. Ratios of areas
+/// do not depend on the linear map they are measured in, so this is the same fill rate as in
+/// the isotropic space of `m(q)⁻¹`, without the disc approximation, which overstated how much
+/// of a corner a long ellipse turned across the triangle fills (and without a field look-up).
 #[must_use]
-pub fn fill_rate(p: [DVec2; 3], m: [Tensor; 3], metric: &TensorField) -> f64 {
-    let q = (p[0] + p[1] + p[2]) / 3.0;
-    let mq = metric.sample(q);
-    let Some(inv) = mq.inverse() else {
-        return f64::INFINITY;
-    };
-    let det_q = mq.det();
-    let t = [
-        inv.mul_vec(p[0] - q),
-        inv.mul_vec(p[1] - q),
-        inv.mul_vec(p[2] - q),
-    ];
-    let area = 0.5 * (t[1] - t[0]).perp_dot(t[2] - t[0]).abs();
+pub fn fill_rate(p: [DVec2; 3], m: [Tensor; 3]) -> f64 {
+    let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]).abs();
     if area <= 0.0 {
         return f64::INFINITY;
     }
     let mut covered = 0.0;
     for i in 0..3 {
-        let (u, v) = (t[(i + 1) % 3] - t[i], t[(i + 2) % 3] - t[i]);
-        let angle = u.angle_to(v).abs();
-        let r2 = (m[i].det() / det_q).max(0.0);
-        covered += 0.5 * angle * r2;
+        let Some(inv) = m[i].inverse() else {
+            return f64::INFINITY;
+        };
+        let u = inv.mul_vec(p[(i + 1) % 3] - p[i]);
+        let v = inv.mul_vec(p[(i + 2) % 3] - p[i]);
+        let angle = u.perp_dot(v).abs().atan2(u.dot(v));
+        covered += 0.5 * m[i].det() * angle;
     }
     covered / area
 }
@@ -69,7 +69,7 @@ pub fn insertion_points(
         }
         let p = [positions[a], positions[b], positions[c]];
         let m = [metrics[a], metrics[b], metrics[c]];
-        let fill = fill_rate(p, m, metric);
+        let fill = fill_rate(p, m);
         if fill <= threshold && has_room(p, m, metric) {
             touched[a] = true;
             touched[b] = true;
@@ -170,11 +170,12 @@ mod tests {
             DVec2::new(1.0, 3f64.sqrt()),
         ];
         let p = iso.map(|v| m.mul_vec(v) + DVec2::new(4.0, 4.0));
-        let fill = fill_rate(p, [m; 3], &metric);
+        let fill = fill_rate(p, [m; 3]);
         assert!((fill - OPTIMAL_FILL_RATE).abs() < 1e-9, "{fill}");
         // Twice as far apart: a quarter of that.
         let far = iso.map(|v| m.mul_vec(v * 2.0) + DVec2::new(2.0, 2.0));
-        assert!((fill_rate(far, [m; 3], &metric) - OPTIMAL_FILL_RATE / 4.0).abs() < 1e-9);
+        assert!((fill_rate(far, [m; 3]) - OPTIMAL_FILL_RATE / 4.0).abs() < 1e-9);
+        let _ = metric;
     }
 
     #[test]
