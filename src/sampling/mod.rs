@@ -10,8 +10,9 @@
 //! 4. iterations of the force spline ([`force`]) with Euler integration of eq. 5 (Δt = 0.2,
 //!    force scale and drag from a linearised packing, see [`SamplerParams::force_scale`]),
 //!    the triangulation repaired every `k` iterations;
-//! 5. [`population`] control at each repair but in the last iterations: insert into poorly
-//!    filled triangles, delete overcrowded samples;
+//! 5. [`population`] control at each repair but in the last (settling) iterations: insert into
+//!    poorly filled triangles, delete overcrowded samples; while settling, the force scale
+//!    eases off so the packing comes to rest;
 //! 6. stop when the largest step is a tiny fraction of the local size, or after the maximum
 //!    number of iterations.
 //!
