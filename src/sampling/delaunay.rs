@@ -73,14 +73,19 @@ impl Edges {
         }
     }
 
-    /// The edges at vertex `v` as (edge index, other vertex).
-    pub fn at(&self, v: usize) -> impl Iterator<Item = (usize, u32)> + '_ {
+    /// The edges at vertex `v` (its one-ring) as (edge index, whether `v` is the edge's first
+    /// end, the other vertex), in a fixed order.
+    pub fn at(&self, v: usize) -> impl Iterator<Item = (usize, bool, u32)> + '_ {
         self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
             .iter()
             .map(|&x| {
                 let e = (x >> 1) as usize;
                 let [a, b] = self.ends[e];
-                (e, if x & 1 == 0 { b } else { a })
+                if x & 1 == 0 {
+                    (e, true, b)
+                } else {
+                    (e, false, a)
+                }
             })
     }
 }
@@ -380,36 +385,9 @@ impl AnisotropicDelaunay {
         self.twin = twin;
     }
 
-    /// Neighbours of every vertex (the one-ring) as compressed rows: the neighbours of `v` are
-    /// `list[offsets[v]..offsets[v + 1]]`, in a fixed order.
-    #[must_use]
-    pub fn neighbours(&self, num_vertices: usize) -> (Vec<u32>, Vec<u32>) {
-        let mut degree = vec![0u32; num_vertices + 1];
-        let each_edge = |f: &mut dyn FnMut(u32, u32)| {
-            for h in 0..self.origin.len() {
-                let (a, b) = (self.origin[h], self.origin[next(h)]);
-                f(a, b);
-                if self.twin[h] == NONE {
-                    f(b, a);
-                }
-            }
-        };
-        each_edge(&mut |a, _| degree[a as usize + 1] += 1);
-        for i in 1..degree.len() {
-            degree[i] += degree[i - 1];
-        }
-        let offsets = degree;
-        let mut fill = offsets.clone();
-        let mut list = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
-        each_edge(&mut |a, b| {
-            list[fill[a as usize] as usize] = b;
-            fill[a as usize] += 1;
-        });
-        (offsets, list)
-    }
-
     /// Every edge once, as its two end vertices, and for every vertex the edges it ends
-    /// (compressed rows): force loops compute each pair once and gather per particle.
+    /// (compressed rows, its one-ring): force loops compute each pair once and gather per
+    /// particle.
     #[must_use]
     pub fn edges(&self, num_vertices: usize) -> Edges {
         let mut ends: Vec<[u32; 2]> = (0..self.origin.len())
@@ -596,51 +574,27 @@ mod tests {
     }
 
     #[test]
-    fn neighbours_are_symmetric_one_rings() {
+    fn edges_are_the_symmetric_one_rings() {
         let pts = random_points(200, 5);
         let metric = TensorField::constant(4, 4, Tensor::from_eigen(0.3, 5.0, 1.0));
         let (mesh, _) = AnisotropicDelaunay::build(&pts, &metric);
-        let (off, list) = mesh.neighbours(pts.len());
-        let edges = edge_set(mesh.triangles());
+        let edges = mesh.edges(pts.len());
+        let set = edge_set(mesh.triangles());
+        assert_eq!(edges.ends.len(), set.len());
         let mut count = 0;
         for v in 0..pts.len() {
-            for &n in &list[off[v] as usize..off[v + 1] as usize] {
-                assert!(edges.contains(&((v as u32).min(n), (v as u32).max(n))));
-                let back = &list[off[n as usize] as usize..off[n as usize + 1] as usize];
-                assert!(back.contains(&(v as u32)));
+            for (e, first, n) in edges.at(v) {
+                let [a, b] = edges.ends[e];
+                assert_eq!(
+                    (if first { a } else { b }, if first { b } else { a }),
+                    (v as u32, n)
+                );
+                assert!(set.contains(&((v as u32).min(n), (v as u32).max(n))));
+                assert!(edges.at(n as usize).any(|(_, _, back)| back == v as u32));
                 count += 1;
             }
         }
-        assert_eq!(count, 2 * edges.len());
-    }
-
-    #[test]
-    fn edges_match_the_one_rings() {
-        let pts = random_points(150, 8);
-        let metric = TensorField::constant(4, 4, Tensor::from_eigen(0.7, 4.0, 1.0));
-        let (mesh, _) = AnisotropicDelaunay::build(&pts, &metric);
-        let (off, list) = mesh.neighbours(pts.len());
-        let edges = mesh.edges(pts.len());
-        assert_eq!(edges.ends.len() * 2, list.len());
-        for v in 0..pts.len() {
-            let mut a: Vec<u32> = list[off[v] as usize..off[v + 1] as usize].to_vec();
-            let mut b: Vec<u32> = edges.incident
-                [edges.offsets[v] as usize..edges.offsets[v + 1] as usize]
-                .iter()
-                .map(|&x| {
-                    let [p, q] = edges.ends[(x >> 1) as usize];
-                    assert_eq!(if x & 1 == 0 { p } else { q }, v as u32);
-                    if x & 1 == 0 {
-                        q
-                    } else {
-                        p
-                    }
-                })
-                .collect();
-            a.sort_unstable();
-            b.sort_unstable();
-            assert_eq!(a, b);
-        }
+        assert_eq!(count, 2 * set.len());
     }
 
     #[test]

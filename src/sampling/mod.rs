@@ -283,8 +283,6 @@ struct Particles {
     metrics: Vec<Tensor>,
     inverses: Vec<Tensor>,
     velocities: Vec<DVec2>,
-    /// The next positions while an iteration runs (reused, not reallocated).
-    scratch: Vec<DVec2>,
     /// Force of each triangulation edge on its first vertex (reused).
     edge_forces: Vec<DVec2>,
     /// Where each particle's metric was last looked up.
@@ -309,7 +307,6 @@ impl Particles {
             metrics,
             inverses,
             velocities,
-            scratch: Vec::new(),
             edge_forces: Vec::new(),
             fixed,
         }
@@ -330,21 +327,17 @@ impl Particles {
     /// the current order, so the result is deterministic.
     /// Returns `new_index`: the new position of every old index.
     fn sort_spatially(&mut self, domain: DVec2) -> Vec<u32> {
-        let key = |p: DVec2| seeding::morton_key(p, domain);
-        let mut order: Vec<(u32, u32)> = (self.fixed..self.positions.len())
-            .map(|i| (key(self.positions[i]), i as u32))
+        let mut keyed: Vec<(u32, u32)> = (self.fixed..self.positions.len())
+            .map(|i| (seeding::morton_key(self.positions[i], domain), i as u32))
             .collect();
-        order.sort_unstable();
-        let fixed = self.fixed;
-        permute(&mut self.positions, fixed, &order);
-        permute(&mut self.velocities, fixed, &order);
-        permute(&mut self.looked_up, fixed, &order);
-        permute(&mut self.meshed_at, fixed, &order);
-        permute(&mut self.metrics, fixed, &order);
-        permute(&mut self.inverses, fixed, &order);
-        let mut new_index: Vec<u32> = (0..self.positions.len() as u32).collect();
-        for (k, &(_, old)) in order.iter().enumerate() {
-            new_index[old as usize] = (self.fixed + k) as u32;
+        keyed.sort_unstable();
+        let order: Vec<u32> = (0..self.fixed as u32)
+            .chain(keyed.iter().map(|&(_, i)| i))
+            .collect();
+        self.keep_in_order(&order);
+        let mut new_index = vec![0u32; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_index[old as usize] = new as u32;
         }
         new_index
     }
@@ -355,28 +348,28 @@ impl Particles {
             return;
         }
         let mut k = 0;
-        let mut keep = |i: &usize| {
-            let drop = k < gone.len() && gone[k] as usize == *i;
-            if drop {
-                k += 1;
-            }
-            !drop
-        };
-        let kept: Vec<usize> = (0..self.positions.len()).filter(|i| keep(i)).collect();
-        self.positions = kept.iter().map(|&i| self.positions[i]).collect();
-        self.looked_up = kept.iter().map(|&i| self.looked_up[i]).collect();
-        self.meshed_at = kept.iter().map(|&i| self.meshed_at[i]).collect();
-        self.metrics = kept.iter().map(|&i| self.metrics[i]).collect();
-        self.inverses = kept.iter().map(|&i| self.inverses[i]).collect();
-        self.velocities = kept.iter().map(|&i| self.velocities[i]).collect();
+        let kept: Vec<u32> = (0..self.positions.len() as u32)
+            .filter(|&i| {
+                let drop = gone.get(k) == Some(&i);
+                k += usize::from(drop);
+                !drop
+            })
+            .collect();
+        self.keep_in_order(&kept);
     }
-}
 
-/// Reorders `v[fixed..]` so that slot `fixed + k` holds the old `v[order[k].1]`.
-fn permute<T: Copy>(v: &mut Vec<T>, fixed: usize, order: &[(u32, u32)]) {
-    let sorted: Vec<T> = order.iter().map(|&(_, i)| v[i as usize]).collect();
-    v.truncate(fixed);
-    v.extend(sorted);
+    /// Keeps the particles `order` lists, in that order, in every per-particle array.
+    fn keep_in_order(&mut self, order: &[u32]) {
+        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            *v = order.iter().map(|&i| v[i as usize]).collect();
+        }
+        gather(&mut self.positions, order);
+        gather(&mut self.velocities, order);
+        gather(&mut self.looked_up, order);
+        gather(&mut self.meshed_at, order);
+        gather(&mut self.metrics, order);
+        gather(&mut self.inverses, order);
+    }
 }
 
 /// Runs the whole sampler on `field` (a metric). Fails before any work when the metric has
@@ -415,15 +408,15 @@ pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampli
 
     for it in 0..params.iterations {
         if it > 0 && params.repair_every > 0 && it % params.repair_every == 0 {
-            // Population control reads fill rates and one-rings of the current mesh, which
-            // must still be a valid triangulation of the moved particles.
-            if !mesh.is_valid_at(&particles.positions) {
-                mesh = rebuild(&mut particles, field, &mut stats);
-            }
             let settling = it + params.settle_iterations > params.iterations;
             mesh = if settling {
                 repair(mesh, &mut particles, field, &mut stats)
             } else {
+                // Population control reads fill rates and one-rings of the current mesh,
+                // which must still be a valid triangulation of the moved particles.
+                if !mesh.is_valid_at(&particles.positions) {
+                    mesh = rebuild(&mut particles, field, &mut stats);
+                }
                 control_population(mesh, &mut particles, field, params, &mut stats)
             };
             edges = mesh.edges(particles.positions.len());
@@ -473,7 +466,6 @@ fn rebuild(
     stats: &mut Stats,
 ) -> AnisotropicDelaunay {
     let t = Instant::now();
-    let flips_before = stats.flips;
     particles.sort_spatially(field.domain());
     let (mut mesh, missing) = AnisotropicDelaunay::build(&particles.positions, field);
     if !missing.is_empty() {
@@ -482,13 +474,16 @@ fn rebuild(
         (mesh, _) = AnisotropicDelaunay::build(&particles.positions, field);
     }
     particles.meshed_at.clone_from(&particles.positions);
-    stats.flips = flips_before + mesh.flips;
-    stats.flip_cap_hits += mesh.cap_hits;
-    mesh.flips = 0;
-    mesh.cap_hits = 0;
+    take_flip_counts(&mut mesh, stats);
     stats.rebuilds += 1;
     stats.triangulation_time += t.elapsed();
     mesh
+}
+
+/// Moves the mesh's flip and cap-hit counts into the run's stats.
+fn take_flip_counts(mesh: &mut AnisotropicDelaunay, stats: &mut Stats) {
+    stats.flips += std::mem::take(&mut mesh.flips);
+    stats.flip_cap_hits += std::mem::take(&mut mesh.cap_hits);
 }
 
 /// Brings the triangulation up to date with moved particles: Lawson flips when every
@@ -503,7 +498,6 @@ fn repair(
         return rebuild(particles, field, stats);
     }
     let t = Instant::now();
-    let (flips, caps) = (mesh.flips, mesh.cap_hits);
     // Only quads with a particle that moved noticeably since the last repair are checked.
     let moved: Vec<bool> = particles
         .positions
@@ -518,10 +512,7 @@ fn repair(
         .collect();
     mesh.legalize_around(&particles.positions, field, Some(&moved));
     particles.meshed_at.clone_from(&particles.positions);
-    stats.flips += mesh.flips - flips;
-    stats.flip_cap_hits += mesh.cap_hits - caps;
-    mesh.flips = 0;
-    mesh.cap_hits = 0;
+    take_flip_counts(&mut mesh, stats);
     stats.triangulation_time += t.elapsed();
     mesh
 }
@@ -543,7 +534,7 @@ fn control_population(
     let new = population::insertion_points(
         &mesh,
         &particles.positions,
-        &particles.metrics,
+        &particles.inverses,
         field,
         params.insert_fill_rate,
     );
@@ -583,7 +574,8 @@ struct Dynamics {
 /// The pair force is computed once per triangulation edge (in parallel, one slot per edge),
 /// then each particle gathers its edges' forces in a fixed order: no pair is computed twice,
 /// nothing is reduced in an order that depends on threads, so the result is the same at any
-/// thread count. New positions go to a second buffer, so every particle sees the old ones.
+/// thread count. All edge forces are computed before any particle moves, so positions and
+/// metrics are then updated in place.
 fn relax_once(
     particles: &mut Particles,
     edges: &Edges,
@@ -597,7 +589,6 @@ fn relax_once(
         metrics,
         inverses,
         velocities,
-        scratch,
         edge_forces,
         looked_up,
         ..
@@ -623,13 +614,11 @@ fn relax_once(
             };
         });
     let edge_forces: &[DVec2] = edge_forces;
-    scratch.clear();
-    scratch.extend_from_slice(positions_now);
     // One pass per particle: gather the edge forces, integrate, and look the metric up again
     // when the particle has moved more than a small fraction of its size since the last
     // look-up (the field is smooth at the scale of an ellipse). Only the particle's own slots
-    // are written, and every edge force was computed from the old state before this pass.
-    let largest = scratch[fixed..]
+    // are written.
+    let largest = positions[fixed..]
         .par_iter_mut()
         .zip(velocities[fixed..].par_iter_mut())
         .zip(
@@ -639,13 +628,16 @@ fn relax_once(
         )
         .zip(looked_up[fixed..].par_iter_mut())
         .enumerate()
-        .map(|(k, (((next, v), (m, inv)), at))| {
+        .map(|(k, (((pos, v), (m, inv)), at))| {
             let i = fixed + k;
-            let p = positions_now[i];
+            let p = *pos;
             let mut force = DVec2::ZERO;
-            for &x in &edges.incident[edges.offsets[i] as usize..edges.offsets[i + 1] as usize] {
-                let f = edge_forces[(x >> 1) as usize];
-                force += if x & 1 == 0 { f } else { -f };
+            for (e, first, _) in edges.at(i) {
+                force += if first {
+                    edge_forces[e]
+                } else {
+                    -edge_forces[e]
+                };
             }
             // Drag taken implicitly: stable for any C_drag·Δt, unlike v·(1 − C_drag·Δt).
             *v = (*v + force * dyn_.dt) / (1.0 + dyn_.drag * dyn_.dt);
@@ -656,16 +648,15 @@ fn relax_once(
                 step *= cap / step.length();
             }
             let margin = 1e-6 * size.max(1e-3);
-            *next = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
-            if (*next - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
-                *m = field.sample(*next);
+            *pos = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
+            if (*pos - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
+                *m = field.sample(*pos);
                 *inv = m.inverse().unwrap_or_default();
-                *at = *next;
+                *at = *pos;
             }
-            (*next - p).length() / size.max(1e-12)
+            (*pos - p).length() / size.max(1e-12)
         })
         .reduce(|| 0.0, f64::max);
-    std::mem::swap(positions, scratch);
     largest
 }
 

@@ -68,12 +68,11 @@ pub fn measure(
         .iter()
         .map(|m| m.inverse().unwrap_or_default())
         .collect();
-    let (off, list) = mesh.neighbours(positions.len());
-    let ring = |i: usize| &list[off[i] as usize..off[i + 1] as usize];
+    let edges = mesh.edges(positions.len());
     let nn = nearest_distances(positions, &inverses, |i| {
-        let mut c: Vec<u32> = ring(i).to_vec();
-        for &n in ring(i) {
-            c.extend_from_slice(ring(n as usize));
+        let mut c: Vec<u32> = edges.at(i).map(|(_, _, n)| n).collect();
+        for (_, _, n) in edges.at(i) {
+            c.extend(edges.at(n as usize).map(|(_, _, m)| m));
         }
         c
     });

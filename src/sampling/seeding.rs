@@ -160,7 +160,7 @@ pub fn relaxation_dart_throwing(
         inverses.push(m.inverse().unwrap_or_default());
     }
     let (mut accepted, mut rejected) = (0u64, 0u64);
-    let mut interior = 0usize;
+    let interior = |positions: &Vec<DVec2>| positions.len() - fixed.len();
     let max_darts = 400 * target as u64 + 100_000;
     let mut darts = 0u64;
     // Darts are drawn in batches and thrown in Morton order within a batch, so the grid and
@@ -169,7 +169,7 @@ pub fn relaxation_dart_throwing(
     let batch_size = (target / 16).clamp(64, 4096);
     let mut batch: Vec<(u32, DVec2)> = Vec::with_capacity(batch_size);
     let domain = metric.domain();
-    'throwing: while interior < target && darts < max_darts {
+    'throwing: while interior(&positions) < target && darts < max_darts {
         batch.clear();
         batch.extend((0..batch_size).map(|_| {
             let c = sampler.draw(rng);
@@ -177,7 +177,7 @@ pub fn relaxation_dart_throwing(
         }));
         batch.sort_unstable_by_key(|&(k, _)| k);
         for &(_, c) in &batch {
-            if interior >= target {
+            if interior(&positions) >= target {
                 break 'throwing;
             }
             darts += 1;
@@ -202,7 +202,6 @@ pub fn relaxation_dart_throwing(
             grid.insert(positions.len() as u32, c, a, params.rho_start * a);
             positions.push(c);
             inverses.push(inv);
-            interior += 1;
         }
     }
     (positions.split_off(fixed.len()), rho)
