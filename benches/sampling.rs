@@ -15,11 +15,16 @@ use std::time::Duration;
 fn photo_field(n: f64) -> TensorField {
     let photo = image::open("samples/astronaut.jpg").expect("samples/astronaut.jpg");
     let mut params = MetricParams::default();
-    let (_, probe) = photo_metric(&photo, &params);
-    let k = (sampling::seeding::estimate_count(&probe) / n).sqrt();
-    params.min_size *= k;
-    params.max_size *= k;
-    photo_metric(&photo, &params).1
+    let mut field = photo_metric(&photo, &params).1;
+    // The count does not scale exactly with the sizes (smoothing scales with them too), so
+    // the sizes are corrected twice.
+    for _ in 0..2 {
+        let k = (sampling::seeding::estimate_count(&field) / n).sqrt();
+        params.min_size *= k;
+        params.max_size *= k;
+        field = photo_metric(&photo, &params).1;
+    }
+    field
 }
 
 /// A constant isotropic field on a `side²` domain needing about `n` samples.

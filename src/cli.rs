@@ -118,6 +118,9 @@ struct SampleArgs {
     /// Insert a sample into triangles whose fill rate is at most this (0 disables insertion).
     #[arg(long)]
     insert_fill_rate: Option<f64>,
+    /// Insert only where the corners' mean pressure is at most this.
+    #[arg(long)]
+    insert_max_pressure: Option<f64>,
     /// Delete samples whose pressure (sum of repelling forces) exceeds this.
     #[arg(long)]
     delete_pressure: Option<f64>,
@@ -263,6 +266,9 @@ fn run_sample(args: &SampleArgs) -> Result<()> {
         repair_every: args.repair_every,
         max_samples: args.max_samples,
         insert_fill_rate: args.insert_fill_rate.unwrap_or(defaults.insert_fill_rate),
+        insert_max_pressure: args
+            .insert_max_pressure
+            .unwrap_or(defaults.insert_max_pressure),
         delete_pressure: args.delete_pressure.unwrap_or(defaults.delete_pressure),
         ..defaults
     };

@@ -13,6 +13,7 @@
 
 use crate::field::TensorField;
 use glam::DVec2;
+use rayon::prelude::*;
 use robust::Coord;
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
 
@@ -243,10 +244,17 @@ impl AnisotropicDelaunay {
                     .any(|&k| m[self.origin[k] as usize])
             })
         };
+        // Most edges are legal: test them all in parallel first (order kept, so the result
+        // does not depend on the thread count); only the illegal ones start the sequential
+        // Lawson pass, which pushes the outer edges of every flipped quad again.
         let mut stack: Vec<u32> = (0..self.origin.len() as u32)
+            .into_par_iter()
             .filter(|&h| {
                 let t = self.twin[h as usize];
-                t != NONE && h < t && touches(h as usize)
+                t != NONE
+                    && h < t
+                    && touches(h as usize)
+                    && self.should_flip(h as usize, points, metric)
             })
             .collect();
         let cap = FLIPS_PER_EDGE * (self.origin.len() / 2).max(1);
@@ -355,16 +363,26 @@ impl AnisotropicDelaunay {
     /// triangle's corner order and remapping twins.
     pub fn sort_triangles(&mut self) {
         let n = self.num_triangles();
-        let mut order: Vec<(u32, u32)> = (0..n)
-            .map(|t| {
-                let [a, b, c] = self.triangle(t);
-                (a.min(b).min(c), t as u32)
-            })
-            .collect();
-        order.sort_unstable();
+        let key = |t: usize| {
+            let [a, b, c] = self.triangle(t);
+            a.min(b).min(c) as usize
+        };
+        // A counting sort by the key, stable, so ties keep the triangle order.
+        let keys = self.origin.iter().max().map_or(0, |&v| v as usize + 1);
+        let mut start = vec![0u32; keys + 1];
+        for t in 0..n {
+            start[key(t) + 1] += 1;
+        }
+        for i in 1..start.len() {
+            start[i] += start[i - 1];
+        }
+        let mut order = vec![0u32; n];
         let mut new_of_old = vec![0u32; n];
-        for (new, &(_, old)) in order.iter().enumerate() {
-            new_of_old[old as usize] = new as u32;
+        for t in 0..n {
+            let slot = &mut start[key(t)];
+            order[*slot as usize] = t as u32;
+            new_of_old[t] = *slot;
+            *slot += 1;
         }
         let map = |h: u32| {
             if h == NONE {
@@ -375,7 +393,7 @@ impl AnisotropicDelaunay {
         };
         let mut origin = vec![0u32; self.origin.len()];
         let mut twin = vec![NONE; self.twin.len()];
-        for (new, &(_, old)) in order.iter().enumerate() {
+        for (new, &old) in order.iter().enumerate() {
             for k in 0..3 {
                 origin[3 * new + k] = self.origin[3 * old as usize + k];
                 twin[3 * new + k] = map(self.twin[3 * old as usize + k]);
@@ -390,15 +408,31 @@ impl AnisotropicDelaunay {
     /// particle.
     #[must_use]
     pub fn edges(&self, num_vertices: usize) -> Edges {
-        let mut ends: Vec<[u32; 2]> = (0..self.origin.len())
-            .filter(|&h| self.twin[h] == NONE || (h as u32) < self.twin[h])
-            .map(|h| {
+        let edge = |h: usize| {
+            (self.twin[h] == NONE || (h as u32) < self.twin[h]).then(|| {
                 let (a, b) = (self.origin[h], self.origin[next(h)]);
                 [a.min(b), a.max(b)]
             })
-            .collect();
-        // In vertex order: with spatially sorted vertices, a loop over edges reads in order.
-        ends.sort_unstable();
+        };
+        // Grouped by their lower vertex (a counting sort, in half-edge order within a
+        // group): with spatially sorted vertices, a loop over edges reads in order.
+        let mut start = vec![0u32; num_vertices + 1];
+        for h in 0..self.origin.len() {
+            if let Some([a, _]) = edge(h) {
+                start[a as usize + 1] += 1;
+            }
+        }
+        for i in 1..start.len() {
+            start[i] += start[i - 1];
+        }
+        let mut ends = vec![[0u32; 2]; start[num_vertices] as usize];
+        for h in 0..self.origin.len() {
+            if let Some(e) = edge(h) {
+                let slot = &mut start[e[0] as usize];
+                ends[*slot as usize] = e;
+                *slot += 1;
+            }
+        }
         Edges::from_ends(ends, num_vertices)
     }
 
