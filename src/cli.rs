@@ -27,6 +27,50 @@ enum Command {
     /// Pack the field's ellipses with the anisotropic particle sampler (paper section 5).
     #[command(after_help = SAMPLE_EXAMPLES)]
     Sample(SampleArgs),
+    /// Draw a look from the samples: Voronoi mosaics, textured cells, glyphs, fabric, LIC.
+    #[command(after_help = RENDER_EXAMPLES)]
+    Render(RenderArgs),
+}
+
+const RENDER_EXAMPLES: &str = "\
+Examples:
+  anisopaint render samples/astronaut.jpg --look mosaic -o mosaic.png
+  anisopaint render samples/chelsea.png --look crosshatch -o ink.png --scale 2
+  anisopaint sample photo.jpg --out s.csv && anisopaint render photo.jpg --samples s.csv --look hatch -o h.png
+  anisopaint render analytic:two-point-load --width 600 --height 400 --look fabric -o load.png
+  anisopaint render photo.jpg --look mosaic -o m.png --labels labels.npy";
+
+#[derive(Debug, Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    /// The look.
+    #[arg(long, default_value = "mosaic", value_parser = clap::builder::PossibleValuesParser::new(crate::render::Look::NAMES))]
+    look: String,
+    /// Output image (PNG or JPEG).
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Reuse samples written by `sample --out` instead of sampling again.
+    #[arg(long)]
+    samples: Option<PathBuf>,
+    /// Also write the label map: int32 .npy (H, W), the samples.csv row owning each pixel.
+    #[arg(long)]
+    labels: Option<PathBuf>,
+    /// Output size as a multiple of the input's.
+    #[arg(long, conflicts_with = "out_width")]
+    scale: Option<f64>,
+    /// Output width in pixels (the height follows the input's aspect).
+    #[arg(long)]
+    out_width: Option<usize>,
+    /// Raster points per pixel along each axis (anti-aliasing of cell borders and textures).
+    #[arg(long, default_value_t = 2)]
+    supersample: usize,
+    /// Seed of the sampler.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Maximum number of relaxation iterations of the sampler.
+    #[arg(long, default_value_t = 100)]
+    iterations: usize,
 }
 
 const SAMPLE_EXAMPLES: &str = "\
@@ -161,6 +205,7 @@ where
     let result = match cli.command {
         Command::Field(args) => run_field(&args),
         Command::Sample(args) => run_sample(&args),
+        Command::Render(args) => run_render(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -332,4 +377,102 @@ fn run_sample(args: &SampleArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+fn run_render(args: &RenderArgs) -> Result<()> {
+    use crate::render::{render, Look, RenderSize};
+    use crate::sampling::{self, AnisotropicDelaunay, SamplerParams};
+    let (input, options) = args.input.plan()?;
+    for out in std::iter::once(&args.out).chain(&args.labels) {
+        check_output(&input, out)?;
+    }
+    if !(1..=4).contains(&args.supersample) {
+        return Err(Error::param("--supersample", "must be 1, 2, 3 or 4"));
+    }
+    let look = Look::named(&args.look)
+        .ok_or_else(|| Error::param("--look", format!("unknown look {}", args.look)))?;
+    let loaded = field::load_field(&input, &options)?;
+    let field = &loaded.metric;
+    let domain = field.domain();
+    let scale = match (args.scale, args.out_width) {
+        (Some(s), _) => s,
+        (None, Some(w)) => w as f64 / domain.x,
+        (None, None) => 1.0,
+    };
+    let (width, height) = ((domain.x * scale).round(), (domain.y * scale).round());
+    if !(scale > 0.0 && scale.is_finite() && width >= 1.0 && height >= 1.0)
+        || width * height > crate::io::MAX_PIXELS as f64
+    {
+        return Err(Error::param(
+            "--scale/--out-width",
+            format!(
+                "the output must have between 1 and {} pixels",
+                crate::io::MAX_PIXELS
+            ),
+        ));
+    }
+    let (positions, metrics, mesh) = match &args.samples {
+        Some(path) => {
+            let (positions, metrics) = crate::io::read_samples_csv(path)?;
+            if let Some(p) = positions
+                .iter()
+                .find(|p| !(p.x >= 0.0 && p.y >= 0.0 && p.x <= domain.x && p.y <= domain.y))
+            {
+                return Err(Error::param(
+                    "--samples",
+                    format!(
+                        "{}: sample ({}, {}) lies outside the input's {}x{} domain",
+                        path.display(),
+                        p.x,
+                        p.y,
+                        domain.x,
+                        domain.y
+                    ),
+                ));
+            }
+            let (mesh, missing) = AnisotropicDelaunay::build(&positions, field);
+            if !missing.is_empty() {
+                return Err(Error::param(
+                    "--samples",
+                    format!("{}: {} duplicate samples", path.display(), missing.len()),
+                ));
+            }
+            (positions, metrics, mesh)
+        }
+        None => {
+            let params = SamplerParams {
+                seed: args.seed,
+                iterations: args.iterations,
+                ..SamplerParams::default()
+            };
+            let s = sampling::sample(field, &params)?;
+            (s.positions, s.metrics, s.mesh)
+        }
+    };
+    let size = RenderSize {
+        width: width as usize,
+        height: height as usize,
+        supersample: args.supersample,
+    };
+    if let Some(path) = &args.labels {
+        let cells = crate::render::VoronoiCells::new(&positions, &metrics, &mesh);
+        let raster = crate::render::Raster {
+            width: size.width,
+            height: size.height,
+            supersample: 1,
+            domain,
+        };
+        let labels = crate::render::label_map(&cells, &raster);
+        crate::io::write_labels_npy(path, &labels, size.width, size.height)?;
+    }
+    let img = render(
+        &look,
+        &positions,
+        &metrics,
+        &mesh,
+        field,
+        loaded.photo.as_ref(),
+        size,
+    );
+    crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))
 }

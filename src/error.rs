@@ -84,6 +84,16 @@ pub enum Error {
         /// Why the value is rejected.
         reason: String,
     },
+    /// A CSV file (samples) is malformed.
+    #[error("{path}:{line}: {reason}")]
+    Csv {
+        /// The file concerned.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// Encoding an output image failed.
     #[error("{path}: cannot encode image: {reason}")]
     Encode {

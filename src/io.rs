@@ -217,6 +217,71 @@ pub fn write_triangles_csv(path: &Path, triangles: impl Iterator<Item = [u32; 3]
     })
 }
 
+/// Reads samples written by [`write_samples_csv`]: header `x,y,m11,m12,m22`, then one sample
+/// per line. Every value must be finite and every metric positive definite; errors name the
+/// line.
+pub fn read_samples_csv(path: &Path) -> Result<(Vec<glam::DVec2>, Vec<Tensor>)> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let bad = |line: usize, reason: String| Error::Csv {
+        path: path.into(),
+        line,
+        reason,
+    };
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, h)) if h.trim() == "x,y,m11,m12,m22" => {}
+        _ => return Err(bad(1, "expected the header x,y,m11,m12,m22".into())),
+    }
+    let mut positions = Vec::new();
+    let mut metrics = Vec::new();
+    for (i, line) in lines {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let values: Vec<f64> = line
+            .split(',')
+            .map(|v| v.trim().parse::<f64>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|e| bad(i + 1, format!("not a number: {e}")))?;
+        let [x, y, a, b, c] = values[..] else {
+            return Err(bad(
+                i + 1,
+                format!("expected 5 values, found {}", values.len()),
+            ));
+        };
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(bad(i + 1, "non-finite value".into()));
+        }
+        let m = Tensor::new(a, b, c);
+        if !m.is_positive_definite() {
+            return Err(bad(i + 1, "metric is not positive definite".into()));
+        }
+        positions.push(glam::DVec2::new(x, y));
+        metrics.push(m);
+    }
+    if positions.len() < 3 {
+        return Err(bad(
+            1,
+            format!("{} samples; at least 3 are needed", positions.len()),
+        ));
+    }
+    Ok((positions, metrics))
+}
+
+/// Writes a label map as `.npy`, int32 of shape (height, width), atomically.
+pub fn write_labels_npy(path: &Path, labels: &[i32], width: usize, height: usize) -> Result<()> {
+    write_atomic(path, |w| {
+        let shape = [height as u64, width as u64];
+        let mut writer = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&shape)
+            .writer(w)
+            .begin_nd()?;
+        writer.extend(labels.iter().copied())?;
+        writer.finish()
+    })
+}
+
 /// Writes `text` to `path` atomically.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_atomic(path, |w| w.write_all(text.as_bytes()))

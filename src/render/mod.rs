@@ -1,8 +1,58 @@
-//! Pictures of the pipeline's data. For now: previews of a metric field and of a sampling (the grid of its
-//! ellipses over the faded photo, or orientation as hue and anisotropy as saturation), drawn
-//! anti-aliased with tiny-skia. The Voronoi, texture, glyph and fabric looks of paper
-//! sections 6 and 7 come here next.
+//! Pictures: the generalized Voronoi cells of the samples ([`voronoi`], paper section 6) and
+//! the looks drawn from them ([`look`]): mosaics ([`mosaic`]), textured cells ([`texture`]),
+//! glyphs ([`glyphs`], paper 7.1), fabric and LIC ([`fabric`], paper 7.3), in linear-light
+//! colour ([`colour`]); plus previews of fields and samplings ([`preview`]). Everything runs
+//! on the CPU with rayon, at any output size: the cells are resolution independent.
 
+pub mod colour;
+pub mod fabric;
+pub mod glyphs;
+pub mod look;
+pub mod mosaic;
 pub mod preview;
+pub mod texture;
+pub mod voronoi;
 
+pub use look::{Look, Scene};
 pub use preview::{ellipses_preview, field_preview, PreviewMode};
+pub use voronoi::{label_map, Owner, Raster, VoronoiCells};
+
+use crate::field::{Tensor, TensorField};
+use crate::sampling::AnisotropicDelaunay;
+use glam::DVec2;
+use image::{DynamicImage, RgbImage};
+
+/// Output size and anti-aliasing of a render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderSize {
+    /// Output width in pixels.
+    pub width: usize,
+    /// Output height in pixels.
+    pub height: usize,
+    /// Raster points per pixel along each axis (2 means 2x2).
+    pub supersample: usize,
+}
+
+/// Renders `look` from samples (`positions`, `metrics`, their anisotropic Delaunay `mesh`)
+/// of `field`, coloured from `photo` when there is one.
+#[must_use]
+pub fn render(
+    look: &Look,
+    positions: &[DVec2],
+    metrics: &[Tensor],
+    mesh: &AnisotropicDelaunay,
+    field: &TensorField,
+    photo: Option<&DynamicImage>,
+    size: RenderSize,
+) -> RgbImage {
+    let cells = VoronoiCells::new(positions, metrics, mesh);
+    let scene = Scene::new(
+        cells,
+        field,
+        photo,
+        size.width,
+        size.height,
+        size.supersample,
+    );
+    look.render(&scene)
+}

@@ -1,0 +1,227 @@
+//! Colour for the looks: sRGB ↔ linear light (averages and blends happen in linear light, as
+//! light adds), the cells' mean photo colours (paper section 6: a cell filled with the colour
+//! of the photo under it), and a colour map for fields without a photo. Linear values are
+//! `f32` in [0, 1]; encoded values are `u8`.
+
+use super::voronoi::{Raster, VoronoiCells, NONE};
+use crate::field::Tensor;
+use image::DynamicImage;
+use rayon::prelude::*;
+use std::sync::OnceLock;
+
+/// A linear-light RGB colour.
+pub type Linear = [f32; 3];
+
+/// sRGB-encoded byte → linear light.
+#[inline]
+#[must_use]
+pub fn to_linear(v: u8) -> f32 {
+    static LUT: OnceLock<[f32; 256]> = OnceLock::new();
+    LUT.get_or_init(|| {
+        let mut t = [0.0; 256];
+        for (i, x) in t.iter_mut().enumerate() {
+            let c = i as f32 / 255.0;
+            *x = if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            };
+        }
+        t
+    })[v as usize]
+}
+
+/// Linear light → sRGB-encoded byte (rounded, clamped).
+#[inline]
+#[must_use]
+pub fn to_srgb(v: f32) -> u8 {
+    static LUT: OnceLock<Vec<u8>> = OnceLock::new();
+    // 4096 steps of linear light: finer than one code in the darks, where sRGB is steepest,
+    // only for the first few codes (measured error ≤ 1 code above code 5).
+    let lut = LUT.get_or_init(|| {
+        (0..=ENCODE_STEPS)
+            .map(|i| {
+                let c = i as f32 / ENCODE_STEPS as f32;
+                let e = if c <= 0.003_130_8 {
+                    12.92 * c
+                } else {
+                    1.055 * c.powf(1.0 / 2.4) - 0.055
+                };
+                (e * 255.0 + 0.5).clamp(0.0, 255.0) as u8
+            })
+            .collect()
+    });
+    let i = (v.clamp(0.0, 1.0) * ENCODE_STEPS as f32 + 0.5) as usize;
+    lut[i]
+}
+
+const ENCODE_STEPS: usize = 4096;
+
+/// Relative luminance of a linear colour (Rec. 709 weights).
+#[inline]
+#[must_use]
+pub fn luminance(c: Linear) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// Perceived lightness in [0, 1] (the sRGB encoding of the luminance, close to CIE L*/100):
+/// what tone mapping of ink density follows.
+#[inline]
+#[must_use]
+pub fn lightness(c: Linear) -> f32 {
+    f32::from(to_srgb(luminance(c))) / 255.0
+}
+
+/// `a + (b − a)·t`, per channel.
+#[inline]
+#[must_use]
+pub fn mix(a: Linear, b: Linear, t: f32) -> Linear {
+    [
+        a[0] + (b[0] - a[0]) * t,
+        a[1] + (b[1] - a[1]) * t,
+        a[2] + (b[2] - a[2]) * t,
+    ]
+}
+
+/// An sRGB byte triple as linear light.
+#[must_use]
+pub fn linear_of(rgb: [u8; 3]) -> Linear {
+    rgb.map(to_linear)
+}
+
+/// Mean colour of the photo over every cell, in linear light. The photo is read at its own
+/// resolution (the domain of the sites is the photo's pixel grid); a cell that holds no pixel
+/// centre takes the photo's colour at its site. Sums run in fixed row blocks and are added in
+/// block order, so the result does not depend on the thread count.
+#[must_use]
+pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
+    let rgb = photo.to_rgb8();
+    let (w, h) = (rgb.width() as usize, rgb.height() as usize);
+    let raster = Raster {
+        width: w,
+        height: h,
+        supersample: 1,
+        domain: glam::DVec2::new(w as f64, h as f64),
+    };
+    let mut labels = vec![NONE; w * h];
+    cells.shade_rows(&raster, &mut labels, w, |_, owners, row| {
+        for (l, o) in row.iter_mut().zip(owners) {
+            *l = o.site;
+        }
+    });
+    let n = cells.positions().len();
+    let block_rows = h.div_ceil(SUM_BLOCKS).max(1);
+    let partial: Vec<Vec<[f64; 4]>> = labels
+        .par_chunks(w * block_rows)
+        .zip(rgb.as_raw().par_chunks(3 * w * block_rows))
+        .map(|(labels, pixels)| {
+            let mut sums = vec![[0.0f64; 4]; n];
+            for (&l, px) in labels.iter().zip(pixels.chunks_exact(3)) {
+                if l == NONE {
+                    continue;
+                }
+                let s = &mut sums[l as usize];
+                for k in 0..3 {
+                    s[k] += f64::from(to_linear(px[k]));
+                }
+                s[3] += 1.0;
+            }
+            sums
+        })
+        .collect();
+    let mut total = vec![[0.0f64; 4]; n];
+    for block in partial {
+        for (t, s) in total.iter_mut().zip(block) {
+            for k in 0..4 {
+                t[k] += s[k];
+            }
+        }
+    }
+    total
+        .iter()
+        .zip(cells.positions())
+        .map(|(s, p)| {
+            if s[3] > 0.0 {
+                [s[0] / s[3], s[1] / s[3], s[2] / s[3]].map(|v| v as f32)
+            } else {
+                let x = (p.x as usize).min(w - 1) as u32;
+                let y = (p.y as usize).min(h - 1) as u32;
+                linear_of(rgb.get_pixel(x, y).0)
+            }
+        })
+        .collect()
+}
+
+/// Fixed number of row blocks for the cell sums (not the thread count: determinism).
+const SUM_BLOCKS: usize = 16;
+
+/// Colours for sites without a photo: a perceptually ordered ramp (deep blue → teal → sand →
+/// brick) over the anisotropy `1 − b/a` of each site's ellipse, in linear light.
+#[must_use]
+pub fn anisotropy_colours(metrics: &[Tensor]) -> Vec<Linear> {
+    metrics
+        .iter()
+        .map(|m| {
+            let e = m.eigen();
+            let a = if e.l1 > 0.0 {
+                (1.0 - e.l2.abs() / e.l1.abs()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            ramp(a as f32)
+        })
+        .collect()
+}
+
+/// The ramp of [`anisotropy_colours`] at `t ∈ [0, 1]`.
+#[must_use]
+pub fn ramp(t: f32) -> Linear {
+    const STOPS: [[u8; 3]; 4] = [
+        [38, 70, 133],
+        [42, 157, 143],
+        [233, 196, 106],
+        [190, 75, 52],
+    ];
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
+    let i = (x as usize).min(STOPS.len() - 2);
+    mix(linear_of(STOPS[i]), linear_of(STOPS[i + 1]), x - i as f32)
+}
+
+/// A small deterministic hash of a site index to [0, 1) (SplitMix64 finaliser).
+#[inline]
+#[must_use]
+pub fn site_hash(site: u32, salt: u64) -> f32 {
+    let mut z = u64::from(site)
+        .wrapping_add(salt.wrapping_mul(0x9E37_79B9_7F4A_7C15))
+        .wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 40) as f32 / (1u64 << 24) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trip() {
+        for v in 0..=255u8 {
+            let back = to_srgb(to_linear(v));
+            assert!(
+                (i32::from(back) - i32::from(v)).abs() <= i32::from(v < 6),
+                "{v} -> {back}"
+            );
+        }
+        assert_eq!(to_srgb(-1.0), 0);
+        assert_eq!(to_srgb(2.0), 255);
+        assert_eq!(to_srgb(f32::NAN), 0);
+    }
+
+    #[test]
+    fn hash_is_spread() {
+        let mean: f32 = (0..10_000).map(|i| site_hash(i, 3)).sum::<f32>() / 10_000.0;
+        assert!((mean - 0.5).abs() < 0.02);
+        assert_ne!(site_hash(1, 0), site_hash(1, 1));
+    }
+}

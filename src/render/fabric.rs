@@ -1,0 +1,373 @@
+//! Fabric textures (paper section 7.3) and plain tensor LIC. A sparse noise image holds a small
+//! dot per sample; line integral convolution along each of the metric's two eigenvector fields
+//! smears the dots into threads, and the two are blended into a weave. Thread thickness follows
+//! the ellipse: threads along the long axis are as thick as a fraction of the short semi-axis
+//! and the other way round (for photos: thin threads along edges, thicker across). With white
+//! noise and one direction it is the classic tensor LIC, for comparison.
+//!
+//! The LIC is the fast kind (Stalling and Hege): a long streamline is traced once from every
+//! pixel that no earlier streamline has crossed, and a box filter slides along it, giving
+//! every pixel it passes a value; the per-pixel cost no longer grows with the kernel length.
+//! Bands of rows are processed in parallel, each depositing into its own rows plus a margin;
+//! the band buffers are then added in band order, so the result does not depend on threads.
+//! Values are `f32`; the noise and the first pass are kept as bytes to hold memory down.
+
+use super::colour::{linear_of, ramp, Linear};
+use super::look::Scene;
+use crate::field::TensorField;
+use glam::DVec2;
+use image::RgbImage;
+use rayon::prelude::*;
+
+/// The noise the LIC smears.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Noise {
+    /// A small dot per sample (the paper's fabric).
+    #[default]
+    Samples,
+    /// Per-pixel white noise (plain LIC).
+    White,
+}
+
+/// Parameters of the fabric and LIC looks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FabricParams {
+    /// The noise.
+    pub noise: Noise,
+    /// Half-length of the convolution kernel in output pixels.
+    pub kernel_px: f32,
+    /// Weight of the LIC along the short axes (the cross threads), 0 to 1.
+    pub cross_weight: f32,
+    /// Thread thickness as a fraction of the ellipse's other semi-axis.
+    pub thickness: f32,
+    /// Contrast of the threads over the colour, 0 to 1.
+    pub contrast: f32,
+}
+
+impl Default for FabricParams {
+    fn default() -> Self {
+        FabricParams {
+            noise: Noise::Samples,
+            kernel_px: 10.0,
+            cross_weight: 0.45,
+            thickness: 0.35,
+            contrast: 0.8,
+        }
+    }
+}
+
+/// Renders the fabric (or LIC) look of `scene`.
+#[must_use]
+pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
+    let r = scene.raster;
+    let (w, h) = (r.width, r.height);
+    let to_domain = DVec2::new(r.domain.x / w as f64, r.domain.y / h as f64);
+    let along = lic(scene, params, Axis::Long, to_domain);
+    let across = if params.cross_weight > 0.0 {
+        Some(lic(scene, params, Axis::Short, to_domain))
+    } else {
+        None
+    };
+    let photo = scene.photo.map(image::DynamicImage::to_rgb8);
+    let mut out = vec![0u8; 3 * w * h];
+    out.par_chunks_mut(3 * w).enumerate().for_each(|(y, row)| {
+        for (x, px) in row.chunks_exact_mut(3).enumerate() {
+            let i = y * w + x;
+            let a = f32::from(along[i]) / 255.0;
+            let v = match &across {
+                Some(c) => {
+                    let b = f32::from(c[i]) / 255.0;
+                    a * (1.0 - params.cross_weight) + b * params.cross_weight
+                }
+                None => a,
+            };
+            let p = (DVec2::new(x as f64, y as f64) + 0.5) * to_domain;
+            let base = base_colour(scene, photo.as_ref(), p);
+            let k = 1.0 - 0.5 * params.contrast + params.contrast * v;
+            let c = base.map(|c| (c * k).clamp(0.0, 1.0));
+            px.copy_from_slice(&c.map(super::colour::to_srgb));
+        }
+    });
+    RgbImage::from_raw(w as u32, h as u32, out).expect("w·h RGB pixels")
+}
+
+/// The colour under the threads: the photo's pixel, or the anisotropy colour map.
+fn base_colour(scene: &Scene, photo: Option<&image::RgbImage>, p: DVec2) -> Linear {
+    match photo {
+        Some(img) => {
+            let x = (p.x as u32).min(img.width() - 1);
+            let y = (p.y as u32).min(img.height() - 1);
+            linear_of(img.get_pixel(x, y).0)
+        }
+        None => {
+            let e = scene.field.sample(p).eigen();
+            let k = ramp((1.0 - e.l2.abs() / e.l1.abs().max(1e-12)) as f32);
+            super::colour::mix([1.0; 3], k, 0.6)
+        }
+    }
+}
+
+/// Which eigenvector field a LIC pass follows.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Axis {
+    Long,
+    Short,
+}
+
+/// Unit direction of `axis` at output point `p` (pixels).
+fn direction(field: &TensorField, p: DVec2, to_domain: DVec2, axis: Axis) -> DVec2 {
+    let e = field.sample(p * to_domain).eigen();
+    let d = DVec2::new(e.angle.cos(), e.angle.sin());
+    let d = if axis == Axis::Long { d } else { d.perp() };
+    // Back to output pixels (non-square scaling bends directions).
+    let v = d / to_domain;
+    v.normalize_or_zero()
+}
+
+/// One LIC pass along `axis` over the noise of `params`, as bytes (0..255, mid-grey 128).
+fn lic(scene: &Scene, params: &FabricParams, axis: Axis, to_domain: DVec2) -> Vec<u8> {
+    let r = scene.raster;
+    let (w, h) = (r.width, r.height);
+    let noise = noise_image(scene, params, axis);
+    let kernel = params.kernel_px.max(1.0).round() as usize;
+    // A streamline is traced this many kernel half-lengths each way from its seed.
+    let reach = 3 * kernel;
+    let margin = reach + 1;
+    let bands = h.div_ceil(LIC_BAND_ROWS).max(1);
+    let mut total = vec![0.0f32; w * h];
+    let mut hits = vec![0u16; w * h];
+    // A few bands at a time, so band buffers (with their margins) never hold the whole image.
+    let group: Vec<usize> = (0..bands).collect();
+    for bands_now in group.chunks(LIC_BANDS_AT_ONCE) {
+        let buffers: Vec<(usize, Vec<f32>, Vec<u16>)> = bands_now
+            .par_iter()
+            .map(|&band| {
+                let y0 = band * LIC_BAND_ROWS;
+                let y1 = (y0 + LIC_BAND_ROWS).min(h);
+                let top = y0.saturating_sub(margin);
+                let bottom = (y1 + margin).min(h);
+                let rows = bottom - top;
+                let mut sum = vec![0.0f32; rows * w];
+                let mut count = vec![0u16; rows * w];
+                let mut line = Vec::with_capacity(2 * reach + 1);
+                let mut scratch = Vec::with_capacity(reach + 1);
+                let tracer = Tracer {
+                    field: scene.field,
+                    noise: &noise,
+                    w,
+                    h,
+                    to_domain,
+                    axis,
+                };
+                for y in y0..y1 {
+                    for x in 0..w {
+                        if count[(y - top) * w + x] > 0 {
+                            continue;
+                        }
+                        tracer.trace(x, y, reach, &mut line, &mut scratch);
+                        deposit(&line, kernel, w, top, bottom, &mut sum, &mut count);
+                    }
+                }
+                (top, sum, count)
+            })
+            .collect();
+        // Added in band order: the same sums at any thread count.
+        for (top, sum, count) in buffers {
+            let start = top * w;
+            for (i, (s, c)) in sum.iter().zip(&count).enumerate() {
+                total[start + i] += s;
+                hits[start + i] = hits[start + i].saturating_add(*c);
+            }
+        }
+    }
+    let values: Vec<f32> = total
+        .iter()
+        .zip(&hits)
+        .map(|(&s, &c)| if c > 0 { s / f32::from(c) } else { 0.0 })
+        .collect();
+    // Normalised to the image's own spread, so threads show whatever the noise density.
+    let n = values.len().max(1) as f64;
+    let mean = values.iter().map(|&v| f64::from(v)).sum::<f64>() / n;
+    let var = values
+        .iter()
+        .map(|&v| (f64::from(v) - mean).powi(2))
+        .sum::<f64>()
+        / n;
+    let spread = (LIC_SPREAD * var.sqrt()).max(1e-6);
+    values
+        .iter()
+        .map(|&v| {
+            let z = ((f64::from(v) - mean) / spread).clamp(-1.0, 1.0);
+            (128.0 + 127.0 * z).round() as u8
+        })
+        .collect()
+}
+
+/// Rows per LIC band.
+const LIC_BAND_ROWS: usize = 32;
+
+/// Bands traced at once (then added into the image).
+const LIC_BANDS_AT_ONCE: usize = 8;
+
+/// The convolved values are mapped to bytes over this many standard deviations either side
+/// of their mean.
+const LIC_SPREAD: f64 = 2.0;
+
+/// What a streamline needs to know.
+struct Tracer<'a> {
+    field: &'a TensorField,
+    noise: &'a [i8],
+    w: usize,
+    h: usize,
+    to_domain: DVec2,
+    axis: Axis,
+}
+
+impl Tracer<'_> {
+    fn inside(&self, p: DVec2) -> bool {
+        p.x >= 0.0 && p.y >= 0.0 && p.x < self.w as f64 && p.y < self.h as f64
+    }
+
+    fn value(&self, p: DVec2) -> f32 {
+        f32::from(self.noise[p.y as usize * self.w + p.x as usize]) / 127.0
+    }
+
+    /// Traces the streamline through pixel (`x`, `y`) both ways, `reach` unit steps each
+    /// (second-order Runge-Kutta; eigenvectors have no sign, so each step keeps the direction
+    /// of the previous one), into `line` as (position, noise) in order. `scratch` holds the
+    /// backward half meanwhile.
+    fn trace(
+        &self,
+        x: usize,
+        y: usize,
+        reach: usize,
+        line: &mut Vec<(DVec2, f32)>,
+        scratch: &mut Vec<(DVec2, f32)>,
+    ) {
+        let start = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+        let d0 = direction(self.field, start, self.to_domain, self.axis);
+        line.clear();
+        scratch.clear();
+        for (sign, out) in [(-1.0, &mut *scratch), (1.0, &mut *line)] {
+            let mut p = start;
+            let mut prev = d0 * sign;
+            for _ in 0..reach {
+                let d = aligned(direction(self.field, p, self.to_domain, self.axis), prev);
+                let mid = p + d * 0.5;
+                if !self.inside(mid) {
+                    break;
+                }
+                let dm = aligned(direction(self.field, mid, self.to_domain, self.axis), d);
+                let next = p + dm;
+                if !self.inside(next) || dm == DVec2::ZERO {
+                    break;
+                }
+                p = next;
+                prev = dm;
+                out.push((p, self.value(p)));
+            }
+        }
+        // scratch: backward half from the seed outwards; line: forward half.
+        scratch.reverse();
+        scratch.push((start, self.value(start)));
+        scratch.append(line);
+        std::mem::swap(line, scratch);
+    }
+}
+
+/// `d` or `−d`, whichever points along `prev`.
+fn aligned(d: DVec2, prev: DVec2) -> DVec2 {
+    if d.dot(prev) < 0.0 {
+        -d
+    } else {
+        d
+    }
+}
+
+/// Slides a box filter of half-length `kernel` along `line` and adds each window's mean to
+/// the pixel at the window's centre, if it lies in rows `top..bottom`.
+fn deposit(
+    line: &[(DVec2, f32)],
+    kernel: usize,
+    w: usize,
+    top: usize,
+    bottom: usize,
+    sum: &mut [f32],
+    count: &mut [u16],
+) {
+    let n = line.len();
+    let mut window = 0.0f32;
+    let (mut lo, mut hi) = (0usize, 0usize);
+    for k in 0..n {
+        // Window [k − kernel, k + kernel], clipped to the line.
+        let want_lo = k.saturating_sub(kernel);
+        let want_hi = (k + kernel + 1).min(n);
+        while hi < want_hi {
+            window += line[hi].1;
+            hi += 1;
+        }
+        while lo < want_lo {
+            window -= line[lo].1;
+            lo += 1;
+        }
+        let p = line[k].0;
+        let (px, py) = (p.x as usize, p.y as usize);
+        if py < top || py >= bottom || px >= w {
+            continue;
+        }
+        let i = (py - top) * w + px;
+        sum[i] += window / (hi - lo) as f32;
+        count[i] = count[i].saturating_add(1);
+    }
+}
+
+/// The noise of one pass, as signed bytes (±127 = ±1), one per output pixel.
+fn noise_image(scene: &Scene, params: &FabricParams, axis: Axis) -> Vec<i8> {
+    let r = scene.raster;
+    let (w, h) = (r.width, r.height);
+    match params.noise {
+        Noise::White => (0..w * h)
+            .into_par_iter()
+            .map(|i| {
+                if super::colour::site_hash(i as u32, 11) < 0.5 {
+                    -127
+                } else {
+                    127
+                }
+            })
+            .collect(),
+        Noise::Samples => {
+            // Dark ground, bright dots: the convolution draws bright threads through them.
+            let mut img = vec![-127i8; w * h];
+            let scale = DVec2::new(w as f64 / r.domain.x, h as f64 / r.domain.y);
+            let cells = &scene.cells;
+            for (i, (p, m)) in cells.positions().iter().zip(cells.metrics()).enumerate() {
+                let e = m.eigen();
+                // Thread thickness: a fraction of the other semi-axis, in output pixels.
+                let other = if axis == Axis::Long { e.l2 } else { e.l1 };
+                let radius = (other.abs() * f64::from(params.thickness) * scale.x.min(scale.y))
+                    .clamp(0.6, 6.0);
+                // Threads of slightly different brightness.
+                let v = (60.0 + 67.0 * super::colour::site_hash(i as u32, 12 + axis as u64)) as i8;
+                let c = *p * scale;
+                let (x0, x1) = (
+                    (c.x - radius).floor().max(0.0) as usize,
+                    (c.x + radius).ceil(),
+                );
+                let (y0, y1) = (
+                    (c.y - radius).floor().max(0.0) as usize,
+                    (c.y + radius).ceil(),
+                );
+                for y in y0..(y1.max(0.0) as usize).min(h) {
+                    for x in x0..(x1.max(0.0) as usize).min(w) {
+                        let q = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                        if (q - c).length() <= radius {
+                            img[y * w + x] = v;
+                        }
+                    }
+                }
+            }
+            img
+        }
+    }
+}

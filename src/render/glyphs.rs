@@ -1,0 +1,233 @@
+//! Glyphs (paper section 7.1): an ellipse (or rectangle, or superquadric) per sample, its
+//! axes the metric's, drawn anti-aliased with tiny-skia. Placing them at the relaxed samples
+//! packs them densely without overlaps; a regular grid or random positions, with the same
+//! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
+
+use super::colour::{linear_of, ramp, to_srgb, Linear};
+use super::look::Scene;
+use crate::field::Tensor;
+use crate::sampling::rng::Rng;
+use glam::DVec2;
+use image::RgbImage;
+use tiny_skia::{Color, FillRule, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform};
+
+/// Where the glyphs go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Placement {
+    /// At the relaxed samples.
+    #[default]
+    Relaxed,
+    /// On a square grid whose spacing gives about as many glyphs as samples.
+    Grid,
+    /// Uniformly at random, as many as samples (seeded, deterministic).
+    Random,
+}
+
+/// The glyph's outline.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Shape {
+    /// An ellipse.
+    #[default]
+    Ellipse,
+    /// A rectangle with the ellipse's axes.
+    Rectangle,
+    /// A superquadric `|x|^p + |y|^p = 1` (p = 2: ellipse; large p: rectangle).
+    Superquadric(f32),
+}
+
+/// What colour fills a glyph.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GlyphColour {
+    /// The cell's colour (the photo under it; the anisotropy map without a photo).
+    #[default]
+    Cell,
+    /// The colour map of the ellipse's anisotropy.
+    Anisotropy,
+}
+
+/// Parameters of the glyph look.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlyphParams {
+    /// Placement.
+    pub placement: Placement,
+    /// Shape.
+    pub shape: Shape,
+    /// Glyph size relative to the sample's ellipse.
+    pub scale: f32,
+    /// Fill colour.
+    pub colour: GlyphColour,
+    /// Outline width in output pixels (0: none).
+    pub outline_width: f32,
+    /// Outline colour, sRGB.
+    pub outline: [u8; 3],
+    /// Background colour, sRGB.
+    pub background: [u8; 3],
+    /// Seed of random placement.
+    pub seed: u64,
+}
+
+impl Default for GlyphParams {
+    fn default() -> Self {
+        GlyphParams {
+            placement: Placement::Relaxed,
+            shape: Shape::Ellipse,
+            scale: 0.95,
+            colour: GlyphColour::Cell,
+            outline_width: 0.0,
+            outline: [30, 30, 30],
+            background: [250, 248, 242],
+            seed: 0,
+        }
+    }
+}
+
+/// Renders the glyphs of `scene`.
+#[must_use]
+pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
+    let r = scene.raster;
+    let (w, h) = (r.width as u32, r.height as u32);
+    let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
+    let bg = params.background;
+    pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
+    let sx = r.width as f64 / r.domain.x;
+    let sy = r.height as f64 / r.domain.y;
+    let mut fill = Paint::default();
+    let mut line = Paint::default();
+    let o = params.outline;
+    line.set_color(Color::from_rgba8(o[0], o[1], o[2], 255));
+    let stroke = Stroke {
+        width: params.outline_width,
+        ..Stroke::default()
+    };
+    for (p, m, colour) in placed(scene, params) {
+        let e = m.eigen();
+        let (a, b) = (
+            e.l1.abs() * f64::from(params.scale),
+            e.l2.abs() * f64::from(params.scale),
+        );
+        if !(a > 0.0 && b > 0.0 && a.is_finite()) {
+            continue;
+        }
+        let Some(path) = outline(params.shape, a as f32, b as f32) else {
+            continue;
+        };
+        let t = Transform::from_rotate(e.angle.to_degrees() as f32)
+            .post_translate(p.x as f32, p.y as f32)
+            .post_scale(sx as f32, sy as f32);
+        let [cr, cg, cb] = colour.map(to_srgb);
+        fill.set_color(Color::from_rgba8(cr, cg, cb, 255));
+        pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
+        if params.outline_width > 0.0 {
+            // The stroke width is given in output pixels: undo the scale for it.
+            let s = Stroke {
+                width: params.outline_width / ((sx * sy).sqrt() as f32),
+                ..stroke.clone()
+            };
+            pixmap.stroke_path(&path, &line, &s, t, None);
+        }
+    }
+    let rgb: Vec<u8> = pixmap
+        .data()
+        .chunks_exact(4)
+        .flat_map(|px| [px[0], px[1], px[2]])
+        .collect();
+    RgbImage::from_raw(w, h, rgb).expect("w·h RGB pixels")
+}
+
+/// Glyph centres, metrics and colours for the placement.
+fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
+    let cells = &scene.cells;
+    let colour_of = |i: usize, m: &Tensor| match params.colour {
+        GlyphColour::Cell => scene.colours[i],
+        GlyphColour::Anisotropy => {
+            let e = m.eigen();
+            ramp((1.0 - e.l2.abs() / e.l1.abs().max(1e-12)) as f32)
+        }
+    };
+    let n = cells.positions().len();
+    let positions: Vec<DVec2> = match params.placement {
+        Placement::Relaxed => {
+            return (0..n)
+                .map(|i| {
+                    let m = cells.metrics()[i];
+                    (cells.positions()[i], m, colour_of(i, &m))
+                })
+                .collect();
+        }
+        Placement::Grid => {
+            let d = scene.field.domain();
+            let spacing = (d.x * d.y / n.max(1) as f64).sqrt();
+            let (cols, rows) = (
+                (d.x / spacing).ceil() as usize,
+                (d.y / spacing).ceil() as usize,
+            );
+            (0..rows)
+                .flat_map(|j| {
+                    (0..cols).map(move |i| {
+                        DVec2::new((i as f64 + 0.5) * spacing, (j as f64 + 0.5) * spacing)
+                    })
+                })
+                .filter(|p| p.x < d.x && p.y < d.y)
+                .collect()
+        }
+        Placement::Random => {
+            let mut rng = Rng::new(params.seed, 2);
+            let d = scene.field.domain();
+            (0..n)
+                .map(|_| DVec2::new(rng.uniform() * d.x, rng.uniform() * d.y))
+                .collect()
+        }
+    };
+    let photo = scene.photo.map(image::DynamicImage::to_rgb8);
+    positions
+        .into_iter()
+        .map(|p| {
+            let m = scene.field.sample(p);
+            // Off the samples there is no cell colour: the photo's pixel under the glyph, or
+            // the anisotropy map.
+            let c = match (&photo, params.colour) {
+                (Some(img), GlyphColour::Cell) => {
+                    let x = (p.x as u32).min(img.width() - 1);
+                    let y = (p.y as u32).min(img.height() - 1);
+                    linear_of(img.get_pixel(x, y).0)
+                }
+                _ => {
+                    let e = m.eigen();
+                    ramp((1.0 - e.l2.abs() / e.l1.abs().max(1e-12)) as f32)
+                }
+            };
+            (p, m, c)
+        })
+        .collect()
+}
+
+/// The glyph outline for semi-axes `a` (along x) and `b`, centred at the origin.
+fn outline(shape: Shape, a: f32, b: f32) -> Option<Path> {
+    match shape {
+        Shape::Ellipse => PathBuilder::from_oval(Rect::from_xywh(-a, -b, 2.0 * a, 2.0 * b)?),
+        Shape::Rectangle => Some(PathBuilder::from_rect(Rect::from_xywh(
+            -a,
+            -b,
+            2.0 * a,
+            2.0 * b,
+        )?)),
+        Shape::Superquadric(p) => {
+            let p = p.max(0.5);
+            let mut pb = PathBuilder::new();
+            let steps = 64;
+            for k in 0..=steps {
+                let th = k as f32 / steps as f32 * std::f32::consts::TAU;
+                let (c, s) = (th.cos(), th.sin());
+                let x = a * c.signum() * c.abs().powf(2.0 / p);
+                let y = b * s.signum() * s.abs().powf(2.0 / p);
+                if k == 0 {
+                    pb.move_to(x, y);
+                } else {
+                    pb.line_to(x, y);
+                }
+            }
+            pb.close();
+            pb.finish()
+        }
+    }
+}

@@ -1,0 +1,157 @@
+//! What every look shares: a [`Scene`] (the cells, their colours, the field, the output size)
+//! and the [`Look`] enum that picks a renderer. Cell looks shade raster points through
+//! [`Scene::shade`], which averages `supersample²` points per pixel in linear light.
+
+use super::colour::{anisotropy_colours, cell_means, to_srgb, Linear};
+use super::voronoi::{Owner, Raster, VoronoiCells, NONE};
+use crate::field::TensorField;
+use glam::DVec2;
+use image::{DynamicImage, RgbImage};
+
+/// Everything a look draws from.
+pub struct Scene<'a> {
+    /// The generalized Voronoi cells of the samples.
+    pub cells: VoronoiCells<'a>,
+    /// Colour of every cell: the photo's mean under it, or a colour map of its ellipse.
+    pub colours: Vec<Linear>,
+    /// The metric field the samples came from.
+    pub field: &'a TensorField,
+    /// The photo, if the input was one.
+    pub photo: Option<&'a DynamicImage>,
+    /// Output size and supersampling.
+    pub raster: Raster,
+    /// Output pixels per domain unit.
+    pub pixels_per_unit: f64,
+}
+
+impl<'a> Scene<'a> {
+    /// A scene of `cells` rendered at `width × height` with `supersample²` points per pixel.
+    #[must_use]
+    pub fn new(
+        cells: VoronoiCells<'a>,
+        field: &'a TensorField,
+        photo: Option<&'a DynamicImage>,
+        width: usize,
+        height: usize,
+        supersample: usize,
+    ) -> Self {
+        let colours = match photo {
+            Some(p) => cell_means(&cells, p),
+            None => anisotropy_colours(cells.metrics()),
+        };
+        let raster = Raster {
+            width: width.max(1),
+            height: height.max(1),
+            supersample: supersample.max(1),
+            domain: field.domain(),
+        };
+        Scene {
+            cells,
+            colours,
+            field,
+            photo,
+            pixels_per_unit: raster.pixels_per_unit(),
+            raster,
+        }
+    }
+
+    /// An image whose every pixel is the linear-light mean of `colour(point, owner)` over its
+    /// raster points.
+    #[must_use]
+    pub fn shade<F>(&self, colour: F) -> RgbImage
+    where
+        F: Fn(DVec2, &Owner) -> Linear + Sync,
+    {
+        let r = self.raster;
+        let ss = r.supersample;
+        let per_row = r.points_per_row();
+        let weight = 1.0 / (ss * ss) as f32;
+        let mut out = vec![0u8; 3 * r.width * r.height];
+        self.cells
+            .shade_rows(&r, &mut out, 3 * r.width, |y, owners, row| {
+                for (x, px) in row.chunks_exact_mut(3).enumerate() {
+                    let mut sum = [0.0f32; 3];
+                    for j in 0..ss {
+                        for i in 0..ss {
+                            let gx = x * ss + i;
+                            let o = &owners[j * per_row + gx];
+                            if o.site == NONE {
+                                continue;
+                            }
+                            let c = colour(r.point(gx, y * ss + j), o);
+                            for k in 0..3 {
+                                sum[k] += c[k];
+                            }
+                        }
+                    }
+                    for k in 0..3 {
+                        px[k] = to_srgb(sum[k] * weight);
+                    }
+                }
+            });
+        RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
+    }
+}
+
+/// A renderer and its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Look {
+    /// Cells filled with their colour, with borders (paper Figure 5e).
+    Mosaic(super::mosaic::MosaicParams),
+    /// Cells filled with a texture in the cell's frame (paper Figures 5f-g, 6d-f).
+    Texture(super::texture::TextureParams),
+    /// Ellipse glyphs at the samples (paper 7.1).
+    Glyphs(super::glyphs::GlyphParams),
+    /// LIC along the eigenvector fields of sample-seeded noise (paper 7.3).
+    Fabric(super::fabric::FabricParams),
+}
+
+impl Look {
+    /// The look a name on the command line means, with default parameters.
+    #[must_use]
+    pub fn named(name: &str) -> Option<Look> {
+        use super::fabric::{FabricParams, Noise};
+        use super::texture::{TextureKind, TextureParams};
+        let texture = |kind| Look::Texture(TextureParams::for_kind(kind));
+        Some(match name {
+            "mosaic" => Look::Mosaic(super::mosaic::MosaicParams::default()),
+            "hatch" => texture(TextureKind::Hatch),
+            "crosshatch" => texture(TextureKind::CrossHatch),
+            "line" => texture(TextureKind::Line),
+            "stroke" => texture(TextureKind::Stroke),
+            "stipple" => texture(TextureKind::Stipple),
+            "glyphs" => Look::Glyphs(super::glyphs::GlyphParams::default()),
+            "fabric" => Look::Fabric(FabricParams::default()),
+            "lic" => Look::Fabric(FabricParams {
+                noise: Noise::White,
+                cross_weight: 0.0,
+                ..FabricParams::default()
+            }),
+            _ => return None,
+        })
+    }
+
+    /// The names [`Look::named`] knows.
+    pub const NAMES: [&'static str; 9] = [
+        "mosaic",
+        "hatch",
+        "crosshatch",
+        "line",
+        "stroke",
+        "stipple",
+        "glyphs",
+        "fabric",
+        "lic",
+    ];
+
+    /// Renders `scene`.
+    #[must_use]
+    pub fn render(&self, scene: &Scene) -> RgbImage {
+        match self {
+            Look::Mosaic(p) => super::mosaic::mosaic(scene, p),
+            Look::Texture(p) => super::texture::textured(scene, p),
+            Look::Glyphs(p) => super::glyphs::glyphs(scene, p),
+            Look::Fabric(p) => super::fabric::fabric(scene, p),
+        }
+    }
+}

@@ -1,0 +1,344 @@
+//! The renderers against independent truths: the label map against a brute-force owner over
+//! all sites, hatch direction against the field's angle measured from the picture's own
+//! structure tensor, flat photos against the colours they must give, odd sizes, and small
+//! reference pictures compared with a per-channel tolerance (`REGENERATE=1` rewrites them; on
+//! a mismatch a diff picture is written next to the reference).
+
+use anisopaint::field::{self, FieldOptions, Input, TensorField};
+use anisopaint::render::{self, label_map, Look, Raster, RenderSize, VoronoiCells};
+use anisopaint::sampling::{self, SamplerParams, Sampling};
+use image::{DynamicImage, RgbImage};
+use std::path::{Path, PathBuf};
+
+fn analytic(spec: &str, w: usize, h: usize) -> TensorField {
+    let input = Input::parse(&format!("analytic:{spec}")).unwrap();
+    let options = FieldOptions {
+        analytic_size: Some((w, h)),
+        ..FieldOptions::default()
+    };
+    field::load_field(&input, &options).unwrap().metric
+}
+
+fn sampled(field: &TensorField) -> Sampling {
+    sampling::sample(field, &SamplerParams::default()).unwrap()
+}
+
+/// Fraction of pixel centres (every `stride`-th in each direction) whose label is the
+/// brute-force owner.
+fn agreement(field: &TensorField, s: &Sampling, stride: usize) -> f64 {
+    let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
+    let d = field.domain();
+    let raster = Raster {
+        width: d.x.round() as usize,
+        height: d.y.round() as usize,
+        supersample: 1,
+        domain: d,
+    };
+    let labels = label_map(&cells, &raster);
+    let (mut agree, mut total) = (0usize, 0usize);
+    for y in (0..raster.height).step_by(stride) {
+        for x in (0..raster.width).step_by(stride) {
+            let truth = cells.owner_brute_force(raster.point(x, y));
+            let label = labels[y * raster.width + x];
+            // A tie (equal distances) may go either way.
+            let tied = (cells.delta(label as u32, raster.point(x, y)) - f64::from(truth.delta))
+                .abs()
+                < 1e-9;
+            agree += usize::from(label == truth.site as i32 || tied);
+            total += 1;
+        }
+    }
+    agree as f64 / total as f64
+}
+
+#[test]
+fn label_map_agrees_with_brute_force_on_photos_and_fields() {
+    let mut cases: Vec<(String, TensorField)> = ["constant:angle=30,anisotropy=4", "circular"]
+        .iter()
+        .chain(&["degenerate-point", "two-point-load"])
+        .map(|s| (s.to_string(), analytic(s, 300, 220)))
+        .collect();
+    for photo in [
+        "samples/chelsea.png",
+        "samples/coffee.png",
+        "samples/astronaut.jpg",
+    ] {
+        let loaded = field::load_field(&Input::parse(photo).unwrap(), &FieldOptions::default());
+        cases.push((photo.into(), loaded.unwrap().metric));
+    }
+    for (name, field) in cases {
+        let s = sampled(&field);
+        let rate = agreement(&field, &s, 2);
+        assert!(rate >= 0.995, "{name}: {rate}");
+    }
+}
+
+/// Direction (degrees in [0, 180)) of the lines in `img`, by a Radon-style search: the
+/// luminance is averaged along lines of each candidate angle (bins of half a pixel across
+/// them), and the angle whose averages vary most is the lines' (a wrong angle averages the
+/// lines away). Coarse steps of 0.5°, then 0.02° around the best.
+fn line_direction(img: &RgbImage) -> f64 {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let lum: Vec<f64> = img
+        .pixels()
+        .map(|p| {
+            f64::from(p.0[0]) * 0.2126 + f64::from(p.0[1]) * 0.7152 + f64::from(p.0[2]) * 0.0722
+        })
+        .collect();
+    let score = |deg: f64| {
+        let a = deg.to_radians();
+        let n = (-a.sin(), a.cos());
+        let diag = ((w * w + h * h) as f64).sqrt();
+        let bins = (4.0 * diag) as usize + 2;
+        let mut sum = vec![0.0; bins];
+        let mut count = vec![0.0; bins];
+        for y in 0..h {
+            for x in 0..w {
+                let t = n.0 * x as f64 + n.1 * y as f64 + diag;
+                let b = (2.0 * t) as usize;
+                sum[b] += lum[y * w + x];
+                count[b] += 1.0;
+            }
+        }
+        let means: Vec<f64> = sum
+            .iter()
+            .zip(&count)
+            .filter(|(_, &c)| c >= 16.0)
+            .map(|(s, c)| s / c)
+            .collect();
+        let m = means.iter().sum::<f64>() / means.len() as f64;
+        means.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / means.len() as f64
+    };
+    let best = |from: f64, to: f64, step: f64| {
+        let n = ((to - from) / step).round() as usize;
+        (0..=n)
+            .map(|i| from + i as f64 * step)
+            .max_by(|a, b| score(*a).total_cmp(&score(*b)))
+            .unwrap()
+    };
+    let coarse = best(0.0, 179.5, 0.5);
+    best(coarse - 0.5, coarse + 0.5, 0.02).rem_euclid(180.0)
+}
+
+#[test]
+fn hatch_lines_follow_a_constant_field() {
+    for angle in [0.0f64, 30.0, 75.0, 120.0] {
+        let field = analytic(
+            &format!("constant:angle={angle},anisotropy=3,size=0.03"),
+            256,
+            256,
+        );
+        let s = sampled(&field);
+        let img = render::render(
+            &Look::named("hatch").unwrap(),
+            &s.positions,
+            &s.metrics,
+            &s.mesh,
+            &field,
+            None,
+            RenderSize {
+                width: 512,
+                height: 512,
+                supersample: 2,
+            },
+        );
+        let found = line_direction(&img);
+        let off = (found - angle).rem_euclid(180.0);
+        let off = off.min(180.0 - off);
+        assert!(off <= 2.0, "field at {angle}°: lines at {found:.2}°");
+    }
+}
+
+fn flat_photo(value: u8, w: u32, h: u32) -> DynamicImage {
+    DynamicImage::ImageRgb8(RgbImage::from_pixel(w, h, image::Rgb([value; 3])))
+}
+
+fn render_photo(photo: &DynamicImage, look: &str, w: usize, h: usize) -> RgbImage {
+    let (_, metric) = field::photo_metric(photo, &field::MetricParams::default());
+    let s = sampled(&metric);
+    render::render(
+        &Look::named(look).unwrap(),
+        &s.positions,
+        &s.metrics,
+        &s.mesh,
+        &metric,
+        Some(photo),
+        RenderSize {
+            width: w,
+            height: h,
+            supersample: 2,
+        },
+    )
+}
+
+#[test]
+fn black_and_white_photos_give_the_expected_colours() {
+    let white = flat_photo(255, 120, 80);
+    let black = flat_photo(0, 120, 80);
+    let paper = [247, 243, 232];
+    let ink = [20, 18, 16];
+    for look in Look::NAMES {
+        // The most frequent colour: cells, paper or glyph fill (borders and lines are thin).
+        let (on_white, on_black) = match look {
+            "mosaic" | "glyphs" | "stroke" => ([255; 3], [0; 3]),
+            "hatch" | "crosshatch" | "stipple" => (paper, ink),
+            // The line is the cell's own colour, darkened: black on black.
+            "line" => (paper, [0; 3]),
+            // Threads darken and lighten the colour: only black stays exactly black.
+            _ => ([0; 3], [0; 3]),
+        };
+        let img = render_photo(&white, look, 120, 80);
+        if on_white != [0; 3] {
+            assert_eq!(mode(&img), on_white, "{look} on white");
+        } else {
+            let mean = mean_rgb(&img);
+            assert!(mean.iter().all(|&v| v > 150.0), "{look} on white: {mean:?}");
+        }
+        let img = render_photo(&black, look, 120, 80);
+        assert_eq!(mode(&img), on_black, "{look} on black");
+    }
+    // Hatch on white has no ink at all.
+    let img = render_photo(&white, "hatch", 60, 40);
+    assert!(img.pixels().all(|p| p.0 == paper));
+}
+
+/// The most frequent pixel value.
+fn mode(img: &RgbImage) -> [u8; 3] {
+    let mut counts = std::collections::BTreeMap::new();
+    for p in img.pixels() {
+        *counts.entry(p.0).or_insert(0usize) += 1;
+    }
+    counts.into_iter().max_by_key(|&(_, n)| n).unwrap().0
+}
+
+fn mean_rgb(img: &RgbImage) -> [f64; 3] {
+    let mut s = [0.0; 3];
+    for p in img.pixels() {
+        for (acc, v) in s.iter_mut().zip(p.0) {
+            *acc += f64::from(v);
+        }
+    }
+    let n = f64::from(img.width() * img.height());
+    s.map(|v| v / n)
+}
+
+#[test]
+fn odd_sizes_render() {
+    for (w, h) in [(1, 40), (40, 1), (3, 3), (2, 2)] {
+        let field = analytic("two-point-load", w, h);
+        let s = sampled(&field);
+        for look in Look::NAMES {
+            for (ow, oh) in [(w, h), (w * 3, h * 3)] {
+                let img = render::render(
+                    &Look::named(look).unwrap(),
+                    &s.positions,
+                    &s.metrics,
+                    &s.mesh,
+                    &field,
+                    None,
+                    RenderSize {
+                        width: ow,
+                        height: oh,
+                        supersample: 3,
+                    },
+                );
+                assert_eq!(
+                    (img.width(), img.height()),
+                    (ow as u32, oh as u32),
+                    "{look}"
+                );
+            }
+        }
+    }
+}
+
+/// Compares `img` with the committed reference `name`: every channel within `tolerance`
+/// levels for at least 99 % of pixels, none off by more than 64. Writes `name.diff.png` on a
+/// mismatch; `REGENERATE=1` rewrites the reference instead.
+fn check_reference(img: &RgbImage, name: &str, tolerance: u8) {
+    let path = PathBuf::from("tests/references").join(format!("{name}.png"));
+    if std::env::var_os("REGENERATE").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        img.save(&path).unwrap();
+        return;
+    }
+    let reference = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (REGENERATE=1 writes it)", path.display()))
+        .to_rgb8();
+    assert_eq!(reference.dimensions(), img.dimensions(), "{name}: size");
+    let mut diff = RgbImage::new(img.width(), img.height());
+    let (mut off, mut worst) = (0usize, 0u8);
+    for ((a, b), d) in img.pixels().zip(reference.pixels()).zip(diff.pixels_mut()) {
+        let delta = [0, 1, 2].map(|k| a.0[k].abs_diff(b.0[k]));
+        let m = *delta.iter().max().unwrap();
+        worst = worst.max(m);
+        off += usize::from(m > tolerance);
+        d.0 = delta.map(|v| v.saturating_mul(4));
+    }
+    let share = off as f64 / f64::from(img.width() * img.height());
+    if share > 0.01 || worst > 64 {
+        let out = diff_path(&path);
+        diff.save(&out).unwrap();
+        panic!(
+            "{name}: {:.2} % of pixels off by more than {tolerance}, worst {worst}; diff in {}",
+            100.0 * share,
+            out.display()
+        );
+    }
+}
+
+fn diff_path(path: &Path) -> PathBuf {
+    path.with_extension("diff.png")
+}
+
+#[test]
+fn looks_match_their_reference_pictures() {
+    let field = analytic("two-point-load", 120, 80);
+    let s = sampled(&field);
+    for look in Look::NAMES {
+        let img = render::render(
+            &Look::named(look).unwrap(),
+            &s.positions,
+            &s.metrics,
+            &s.mesh,
+            &field,
+            None,
+            RenderSize {
+                width: 150,
+                height: 100,
+                supersample: 2,
+            },
+        );
+        check_reference(&img, look, 6);
+    }
+}
+
+#[test]
+fn same_seed_same_picture_at_any_thread_count() {
+    let field = analytic("degenerate-point", 160, 120);
+    let s = sampled(&field);
+    let draw = |look: &str| {
+        render::render(
+            &Look::named(look).unwrap(),
+            &s.positions,
+            &s.metrics,
+            &s.mesh,
+            &field,
+            None,
+            RenderSize {
+                width: 200,
+                height: 150,
+                supersample: 2,
+            },
+        )
+    };
+    for look in Look::NAMES {
+        let many = draw(look);
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| draw(look));
+        assert!(many == one, "{look} differs with one thread");
+    }
+}
