@@ -114,14 +114,26 @@ enum Axis {
     Short,
 }
 
-/// Unit direction of `axis` at output point `p` (pixels).
+/// Unit direction of `axis` at output point `p` (pixels), up to sign. From the tensor
+/// `[[a, b], [b, c]]` directly: the long axis is at half the angle of `(a − c, 2b)`, and the
+/// half-angle formulas give it without `atan2` or an eigen decomposition (this runs twice per
+/// streamline step).
 fn direction(field: &TensorField, p: DVec2, to_domain: DVec2, axis: Axis) -> DVec2 {
-    let e = field.sample(p * to_domain).eigen();
-    let d = DVec2::new(e.angle.cos(), e.angle.sin());
+    let t = field.sample(p * to_domain);
+    let (c2, s2) = (t.xx - t.yy, 2.0 * t.xy);
+    let n = (c2 * c2 + s2 * s2).sqrt();
+    let d = if n > 0.0 {
+        let c = c2 / n;
+        let cos = (0.5 * (1.0 + c)).max(0.0).sqrt();
+        let sin = (0.5 * (1.0 - c)).max(0.0).sqrt().copysign(s2);
+        DVec2::new(cos, sin)
+    } else {
+        // Isotropic: any direction; keep x so streamlines stay straight.
+        DVec2::X
+    };
     let d = if axis == Axis::Long { d } else { d.perp() };
     // Back to output pixels (non-square scaling bends directions).
-    let v = d / to_domain;
-    v.normalize_or_zero()
+    (d / to_domain).normalize_or_zero()
 }
 
 /// One LIC pass along `axis` over the noise of `params`, as bytes (0..255, mid-grey 128).
@@ -233,8 +245,8 @@ impl Tracer<'_> {
     }
 
     /// Traces the streamline through pixel (`x`, `y`) both ways, `reach` unit steps each
-    /// (second-order Runge-Kutta; eigenvectors have no sign, so each step keeps the direction
-    /// of the previous one), into `line` as (position, noise) in order. `scratch` holds the
+    /// (eigenvectors have no sign, so each step keeps the direction of the previous one), into
+    /// `line` as (position, noise) in order. `scratch` holds the
     /// backward half meanwhile.
     fn trace(
         &self,
@@ -252,18 +264,15 @@ impl Tracer<'_> {
             let mut p = start;
             let mut prev = d0 * sign;
             for _ in 0..reach {
+                // Unit Euler steps: the field is smooth at the scale of a pixel (it is smoothed
+                // at the scale of the ellipses), and half the look-ups of a midpoint rule.
                 let d = aligned(direction(self.field, p, self.to_domain, self.axis), prev);
-                let mid = p + d * 0.5;
-                if !self.inside(mid) {
-                    break;
-                }
-                let dm = aligned(direction(self.field, mid, self.to_domain, self.axis), d);
-                let next = p + dm;
-                if !self.inside(next) || dm == DVec2::ZERO {
+                let next = p + d;
+                if !self.inside(next) || d == DVec2::ZERO {
                     break;
                 }
                 p = next;
-                prev = dm;
+                prev = d;
                 out.push((p, self.value(p)));
             }
         }

@@ -57,6 +57,12 @@ impl<'a> Scene<'a> {
 
     /// An image whose every pixel is the linear-light mean of `colour(point, owner)` over its
     /// raster points.
+    ///
+    /// Supersampling is adaptive: the owner is found at the pixel's centre, and only a pixel
+    /// that a cell border may cross (its centre less than [`BORDER_MARGIN_PX`] from the
+    /// border) is shaded at all `supersample²` points, with owners searched among the centre
+    /// triangle's candidates. Inside a cell one evaluation suffices: the textures anti-alias
+    /// themselves over the pixel's footprint.
     #[must_use]
     pub fn shade<F>(&self, colour: F) -> RgbImage
     where
@@ -64,34 +70,57 @@ impl<'a> Scene<'a> {
     {
         let r = self.raster;
         let ss = r.supersample;
-        let per_row = r.points_per_row();
+        let centres = Raster {
+            supersample: 1,
+            ..r
+        };
+        let step = r.step();
         let weight = 1.0 / (ss * ss) as f32;
         let mut out = vec![0u8; 3 * r.width * r.height];
         self.cells
-            .shade_rows(&r, &mut out, 3 * r.width, |y, owners, row| {
-                for (x, px) in row.chunks_exact_mut(3).enumerate() {
-                    let mut sum = [0.0f32; 3];
-                    for j in 0..ss {
-                        for i in 0..ss {
-                            let gx = x * ss + i;
-                            let o = &owners[j * per_row + gx];
-                            if o.site == NONE {
-                                continue;
-                            }
-                            let c = colour(r.point(gx, y * ss + j), o);
-                            for k in 0..3 {
-                                sum[k] += c[k];
+            .shade_rows(&centres, &mut out, 3 * r.width, |y, owners, row| {
+                for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
+                    if o.site == NONE {
+                        continue;
+                    }
+                    let centre = centres.point(x, y);
+                    let near_border = ss > 1
+                        && o.triangle != NONE
+                        && self.cells.border_distance_at_least(o) * self.pixels_per_unit
+                            < BORDER_MARGIN_PX
+                        && self.cells.border_distance(centre, o) * self.pixels_per_unit
+                            < BORDER_MARGIN_PX;
+                    let c = if near_border {
+                        let mut sum = [0.0f32; 3];
+                        for j in 0..ss {
+                            for i in 0..ss {
+                                let q = DVec2::new(
+                                    (x * ss + i) as f64 + 0.5,
+                                    (y * ss + j) as f64 + 0.5,
+                                ) * step;
+                                let oq = self.cells.owner_in_triangle(o.triangle as usize, q);
+                                let c = colour(q, &oq);
+                                for k in 0..3 {
+                                    sum[k] += c[k];
+                                }
                             }
                         }
-                    }
+                        sum.map(|v| v * weight)
+                    } else {
+                        colour(centre, o)
+                    };
                     for k in 0..3 {
-                        px[k] = to_srgb(sum[k] * weight);
+                        px[k] = to_srgb(c[k]);
                     }
                 }
             });
         RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
     }
 }
+
+/// A pixel whose centre is closer than this to a cell border (in output pixels) is
+/// supersampled: half the pixel's diagonal plus a margin for the first-order distance.
+pub const BORDER_MARGIN_PX: f64 = 1.0;
 
 /// A renderer and its parameters.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,7 +9,7 @@
 
 use super::colour::{mix, site_hash, to_srgb, Linear};
 use super::look::Scene;
-use super::voronoi::{Owner, NONE};
+use super::voronoi::Owner;
 use glam::DVec2;
 use image::RgbImage;
 
@@ -68,16 +68,12 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
 /// and the runner-up, falling to 0 over one pixel.
 #[must_use]
 pub fn border_coverage(scene: &Scene, p: DVec2, o: &Owner, width: f32) -> f32 {
-    if o.second == NONE {
+    let half = f64::from(0.5 * width + 0.5);
+    // The cheap bound first: far from the border (the common case) no gradient is needed.
+    if scene.cells.border_distance_at_least(o) * scene.pixels_per_unit > half {
         return 0.0;
     }
-    let cells = &scene.cells;
-    let g = cells.delta_gradient(o.second, p) - cells.delta_gradient(o.site, p);
-    let len = g.length();
-    if len <= 0.0 {
-        return 0.0;
-    }
-    let distance_px = (f64::from(o.delta2 - o.delta) / len * scene.pixels_per_unit) as f32;
+    let distance_px = (scene.cells.border_distance(p, o) * scene.pixels_per_unit) as f32;
     (0.5 * width - distance_px + 0.5).clamp(0.0, 1.0)
 }
 

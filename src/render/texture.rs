@@ -131,6 +131,19 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             }
         })
         .collect();
+    // Per cell, once: tone and ink (a power per raster point would cost more than the texture).
+    let tones: Vec<(f32, Linear)> = scene
+        .colours
+        .iter()
+        .map(|&colour| {
+            let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
+            let ink = match params.ink {
+                Ink::Fixed(rgb) => linear_of(rgb),
+                Ink::Cell(k) => colour.map(|v| v * (1.0 - k)),
+            };
+            (darkness, ink)
+        })
+        .collect();
     let paper = linear_of(params.paper);
     let px = 1.0 / scene.pixels_per_unit;
     scene.shade(|p, o| {
@@ -140,11 +153,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         // Domain units along the long (x) and short (y) axes.
         let local = DVec2::new(f.cos * d.x + f.sin * d.y, -f.sin * d.x + f.cos * d.y);
         let colour = scene.colours[site as usize];
-        let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
-        let ink = match params.ink {
-            Ink::Fixed(rgb) => linear_of(rgb),
-            Ink::Cell(k) => colour.map(|v| v * (1.0 - k)),
-        };
+        let (darkness, ink) = tones[site as usize];
         let mut c = if let TextureKind::Stroke = params.kind {
             stroke(local, &f, site, colour, params, px)
         } else {
@@ -279,8 +288,13 @@ fn stroke(
     px: f64,
 ) -> Linear {
     let s = spacing(f.b, p, px);
-    let bristle = (local.y / s + f64::from(site_hash(site, 4)) * 16.0).floor() as i64;
-    let streak = site_hash(site ^ (bristle as u32).wrapping_mul(2_654_435_761), 5) - 0.5;
+    // Value noise across the stroke: random per bristle, blended smoothly between bristles
+    // (no hard steps, which would alias inside a cell).
+    let u = local.y / s + f64::from(site_hash(site, 4)) * 16.0;
+    let (k, t) = (u.floor(), (u - u.floor()) as f32);
+    let bristle = |k: f64| site_hash(site ^ (k as i64 as u32).wrapping_mul(2_654_435_761), 5) - 0.5;
+    let t = t * t * (3.0 - 2.0 * t);
+    let streak = bristle(k) + (bristle(k + 1.0) - bristle(k)) * t;
     let along = (local.x / f.a).abs().min(1.5) as f32;
     let across = (local.y / f.b).abs().min(1.5) as f32;
     let shade = 1.0 + 0.22 * streak - 0.12 * along * along - 0.08 * across * across;

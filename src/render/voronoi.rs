@@ -13,7 +13,8 @@
 //!
 //! A [`Raster`] places `supersample²` points in every output pixel; [`VoronoiCells::shade_rows`]
 //! hands each output row its points' [`Owner`]s, band by band, so memory stays a few rows deep
-//! whatever the image size. Positions and distances are `f64` (sites carry `f64` metrics);
+//! whatever the image size. [`VoronoiCells::border_distance`] tells how far a point is from
+//! its cell's border, which lets looks supersample only the pixels a border crosses. Positions and distances are `f64` (sites carry `f64` metrics);
 //! the per-point record is `f32`, enough for shading.
 
 use crate::field::Tensor;
@@ -85,6 +86,27 @@ pub struct Owner {
     pub delta: f32,
     /// `δ` of the second (infinite when there is none).
     pub delta2: f32,
+    /// The triangle whose candidates were searched (`NONE` after a brute-force search).
+    pub triangle: u32,
+}
+
+/// What the owner search reads of a site, packed in one cache line: its position and
+/// `Q = m⁻ᵀm⁻¹` (so `δ² = yᵀQy`, no square root per candidate).
+#[derive(Clone, Copy, Debug, Default)]
+struct SiteQuad {
+    x: f64,
+    y: f64,
+    qxx: f64,
+    qxy: f64,
+    qyy: f64,
+}
+
+impl SiteQuad {
+    #[inline]
+    fn delta_squared(&self, p: DVec2) -> f64 {
+        let (dx, dy) = (p.x - self.x, p.y - self.y);
+        self.qxx * dx * dx + 2.0 * self.qxy * dx * dy + self.qyy * dy * dy
+    }
 }
 
 /// Sites with their inverse metrics and, per triangle of their anisotropic Delaunay
@@ -93,6 +115,9 @@ pub struct VoronoiCells<'a> {
     positions: &'a [DVec2],
     metrics: &'a [Tensor],
     inverses: Vec<Tensor>,
+    quads: Vec<SiteQuad>,
+    /// `1 / b` per site (`b` the short semi-axis): the largest `|∇δ|` can be.
+    steepest: Vec<f64>,
     mesh: &'a AnisotropicDelaunay,
     candidates: Vec<[u32; 6]>,
 }
@@ -105,9 +130,24 @@ impl<'a> VoronoiCells<'a> {
         metrics: &'a [Tensor],
         mesh: &'a AnisotropicDelaunay,
     ) -> Self {
-        let inverses = metrics
+        let inverses: Vec<Tensor> = metrics
             .par_iter()
             .map(|m| m.inverse().unwrap_or_default())
+            .collect();
+        let quads = inverses
+            .iter()
+            .zip(positions)
+            .map(|(inv, p)| SiteQuad {
+                x: p.x,
+                y: p.y,
+                qxx: inv.xx * inv.xx + inv.xy * inv.xy,
+                qxy: inv.xy * (inv.xx + inv.yy),
+                qyy: inv.yy * inv.yy + inv.xy * inv.xy,
+            })
+            .collect();
+        let steepest = metrics
+            .iter()
+            .map(|m| 1.0 / m.eigen().l2.abs().max(1e-12))
             .collect();
         let candidates = (0..mesh.num_triangles())
             .into_par_iter()
@@ -130,9 +170,17 @@ impl<'a> VoronoiCells<'a> {
             positions,
             metrics,
             inverses,
+            quads,
+            steepest,
             mesh,
             candidates,
         }
+    }
+
+    /// The largest slope `|∇δ_i|` anywhere: `1/b_i`.
+    #[must_use]
+    pub fn steepest(&self, i: u32) -> f64 {
+        self.steepest[i as usize]
     }
 
     /// The sites' positions.
@@ -176,28 +224,63 @@ impl<'a> VoronoiCells<'a> {
     }
 
     /// The owner of `p` among the candidates of triangle `t`.
+    #[inline]
     #[must_use]
     pub fn owner_in_triangle(&self, t: usize, p: DVec2) -> Owner {
         let mut best = (NONE, f64::INFINITY);
         let mut second = (NONE, f64::INFINITY);
         for &c in &self.candidates[t] {
-            if c == NONE || c == best.0 || c == second.0 {
+            if c == NONE {
                 continue;
             }
-            let d = self.delta(c, p);
+            let d = self.quads[c as usize].delta_squared(p);
+            // A site listed twice (a neighbour's opposite corner can repeat) gives the same
+            // distance: `<` keeps the first, and `c != best.0` keeps it out of second place.
             if d < best.1 {
                 second = best;
                 best = (c, d);
-            } else if d < second.1 {
+            } else if d < second.1 && c != best.0 {
                 second = (c, d);
             }
         }
         Owner {
             site: best.0,
             second: second.0,
-            delta: best.1 as f32,
-            delta2: second.1 as f32,
+            delta: best.1.sqrt() as f32,
+            delta2: second.1.sqrt() as f32,
+            triangle: t as u32,
         }
+    }
+
+    /// Distance from `p` to the border between its owner and the runner-up, in domain units,
+    /// to first order: `(δ_j − δ_i) / |∇δ_j − ∇δ_i|`, with `∇δ = Q (p − p_i) / δ` from the
+    /// packed `Q` and the owner's `δ`s. Infinite when there is no runner-up.
+    #[must_use]
+    pub fn border_distance(&self, p: DVec2, o: &Owner) -> f64 {
+        if o.second == NONE || o.delta <= 0.0 || o.delta2 <= 0.0 {
+            return f64::INFINITY;
+        }
+        let grad = |i: u32, delta: f32| {
+            let q = &self.quads[i as usize];
+            let (dx, dy) = (p.x - q.x, p.y - q.y);
+            DVec2::new(q.qxx * dx + q.qxy * dy, q.qxy * dx + q.qyy * dy) / f64::from(delta)
+        };
+        let len = (grad(o.second, o.delta2) - grad(o.site, o.delta)).length();
+        if len > 0.0 {
+            f64::from(o.delta2 - o.delta) / len
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// A lower bound of [`Self::border_distance`] without gradients: `|∇δ| ≤ 1/b`.
+    #[inline]
+    #[must_use]
+    pub fn border_distance_at_least(&self, o: &Owner) -> f64 {
+        if o.second == NONE {
+            return f64::INFINITY;
+        }
+        f64::from(o.delta2 - o.delta) / (self.steepest(o.site) + self.steepest(o.second))
     }
 
     /// The owner of `p` by brute force over every site (the reference the tests use).
@@ -219,6 +302,7 @@ impl<'a> VoronoiCells<'a> {
             second: second.0,
             delta: best.1 as f32,
             delta2: second.1 as f32,
+            triangle: NONE,
         }
     }
 
@@ -248,6 +332,7 @@ impl<'a> VoronoiCells<'a> {
                         second: NONE,
                         delta: f32::INFINITY,
                         delta2: f32::INFINITY,
+                        triangle: NONE,
                     };
                     ss * raster.points_per_row()
                 ];
