@@ -38,7 +38,9 @@ Examples:
   anisopaint render samples/chelsea.png --look crosshatch -o ink.png --scale 2
   anisopaint sample photo.jpg --out s.csv && anisopaint render photo.jpg --samples s.csv --look hatch -o h.png
   anisopaint render analytic:two-point-load --width 600 --height 400 --look fabric -o load.png
-  anisopaint render photo.jpg --look mosaic -o m.png --labels labels.npy";
+  anisopaint render photo.jpg --look mosaic -o m.png --labels labels.npy
+  anisopaint render photo.jpg --look glyphs --placement grid -o grid-glyphs.png
+  anisopaint render photo.jpg --look hatch --texture my-tile.png -o tiled.png";
 
 #[derive(Debug, Args)]
 struct RenderArgs {
@@ -62,9 +64,16 @@ struct RenderArgs {
     /// Output width in pixels (the height follows the input's aspect).
     #[arg(long)]
     out_width: Option<usize>,
-    /// Raster points per pixel along each axis (anti-aliasing of cell borders and textures).
+    /// Raster points per pixel along each axis, used where a cell border crosses the pixel.
     #[arg(long, default_value_t = 2)]
     supersample: usize,
+    /// For the textured looks: fill cells with this greyscale PNG tile (dark = ink) instead.
+    #[arg(long)]
+    texture: Option<PathBuf>,
+    /// For --look glyphs: where the glyphs go (grid and random reproduce the paper's
+    /// comparison with the relaxed samples).
+    #[arg(long, value_enum, default_value_t = PlacementArg::Relaxed)]
+    placement: PlacementArg,
     /// Seed of the sampler.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -111,6 +120,13 @@ enum TensorArg {
     Auto,
     Metric,
     General,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum PlacementArg {
+    Relaxed,
+    Grid,
+    Random,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -389,8 +405,30 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     if !(1..=4).contains(&args.supersample) {
         return Err(Error::param("--supersample", "must be 1, 2, 3 or 4"));
     }
-    let look = Look::named(&args.look)
+    let mut look = Look::named(&args.look)
         .ok_or_else(|| Error::param("--look", format!("unknown look {}", args.look)))?;
+    match (&mut look, &args.texture) {
+        (Look::Texture(params), Some(path)) => {
+            let tile = crate::io::read_photo(path)?.to_luma8();
+            params.kind = crate::render::texture::TextureKind::Image(tile);
+        }
+        (_, Some(_)) => {
+            return Err(Error::param(
+                "--texture",
+                "only the textured looks (hatch, crosshatch, line, stroke, stipple) take a tile",
+            ))
+        }
+        _ => {}
+    }
+    if let Look::Glyphs(params) = &mut look {
+        use crate::render::glyphs::Placement;
+        params.placement = match args.placement {
+            PlacementArg::Relaxed => Placement::Relaxed,
+            PlacementArg::Grid => Placement::Grid,
+            PlacementArg::Random => Placement::Random,
+        };
+        params.seed = args.seed;
+    }
     let loaded = field::load_field(&input, &options)?;
     let field = &loaded.metric;
     let domain = field.domain();

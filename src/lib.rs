@@ -4,7 +4,8 @@
 //!
 //! The data flows through the modules in order: [`field`] (tensors, structure tensor, metric)
 //! → [`sampling`] (seeding, forces, anisotropic Delaunay, population
-//! control, quality) → [`render`] → styles → [`cli`]. [`io`] reads inputs and writes outputs
+//! control, quality) → [`render`] (Voronoi cells, mosaics, textures, glyphs, fabric) → styles
+//! → [`cli`]. [`io`] reads inputs and writes outputs
 //! atomically; [`error`] is the one error type.
 
 #![forbid(unsafe_code)]

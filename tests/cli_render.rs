@@ -166,3 +166,60 @@ fn bad_options_and_bad_samples_exit_2_without_output() {
     let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
     assert!(stderr.contains("bad.csv:3"), "{stderr}");
 }
+
+#[test]
+fn texture_tiles_and_glyph_placements() {
+    let dir = tempfile::tempdir().unwrap();
+    let tile = dir.path().join("tile.png");
+    // A vertical ramp: ink coverage from 0 to 1 across the tile.
+    image::GrayImage::from_fn(16, 16, |_, y| image::Luma([(y * 16) as u8]))
+        .save(&tile)
+        .unwrap();
+    let out = dir.path().join("t.png");
+    bin()
+        .args([
+            "render",
+            "samples/chelsea.png",
+            "--look",
+            "hatch",
+            "--texture",
+        ])
+        .arg(&tile)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    assert_eq!(size_of(&out), (451, 300));
+    let refused = dir.path().join("m.png");
+    bin()
+        .args([
+            "render",
+            "samples/chelsea.png",
+            "--look",
+            "mosaic",
+            "--texture",
+        ])
+        .arg(&tile)
+        .arg("-o")
+        .arg(&refused)
+        .assert()
+        .code(2);
+    assert!(!refused.exists());
+    for placement in ["relaxed", "grid", "random"] {
+        let out = dir.path().join(format!("{placement}.png"));
+        bin()
+            .args([
+                "render",
+                "analytic:circular",
+                "--look",
+                "glyphs",
+                "--placement",
+                placement,
+            ])
+            .arg("-o")
+            .arg(&out)
+            .assert()
+            .success();
+        assert_eq!(size_of(&out), (512, 512));
+    }
+}

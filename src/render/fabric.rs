@@ -143,7 +143,7 @@ fn lic(scene: &Scene, params: &FabricParams, axis: Axis, to_domain: DVec2) -> Ve
     let noise = noise_image(scene, params, axis);
     let kernel = params.kernel_px.max(1.0).round() as usize;
     // A streamline is traced this many kernel half-lengths each way from its seed.
-    let reach = 3 * kernel;
+    let reach = 2 * kernel;
     let margin = reach + 1;
     let bands = h.div_ceil(LIC_BAND_ROWS).max(1);
     let mut total = vec![0.0f32; w * h];

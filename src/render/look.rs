@@ -120,7 +120,7 @@ impl<'a> Scene<'a> {
 
 /// A pixel whose centre is closer than this to a cell border (in output pixels) is
 /// supersampled: half the pixel's diagonal plus a margin for the first-order distance.
-pub const BORDER_MARGIN_PX: f64 = 1.0;
+pub const BORDER_MARGIN_PX: f64 = 0.75;
 
 /// A renderer and its parameters.
 #[derive(Clone, Debug, PartialEq)]

@@ -429,7 +429,7 @@ impl<'a> VoronoiCells<'a> {
 }
 
 /// Rows of output pixels per parallel band.
-const BAND_ROWS: usize = 8;
+const BAND_ROWS: usize = 16;
 
 /// The x-interval where the horizontal line at `y` crosses the triangle `v`.
 fn span(v: &[DVec2; 3], y: f64) -> Option<(f64, f64)> {
