@@ -3,7 +3,7 @@
 //! [`Scene::shade`], which averages `supersample²` points per pixel in linear light.
 
 use super::colour::{anisotropy_colours, cell_means, to_srgb, Linear};
-use super::voronoi::{Owner, Raster, VoronoiCells, NONE};
+use super::voronoi::{Owner, Raster, VoronoiCells, BORDER_EXACT_PX, NONE};
 use crate::field::TensorField;
 use glam::DVec2;
 use image::{DynamicImage, RgbImage};
@@ -58,11 +58,13 @@ impl<'a> Scene<'a> {
     /// An image whose every pixel is the linear-light mean of `colour(point, owner)` over its
     /// raster points.
     ///
-    /// Supersampling is adaptive: the owner is found at the pixel's centre, and only a pixel
-    /// that a cell border may cross (its centre less than [`BORDER_MARGIN_PX`] from the
-    /// border) is shaded at all `supersample²` points, with owners searched among the centre
-    /// triangle's candidates. Inside a cell one evaluation suffices: the textures anti-alias
-    /// themselves over the pixel's footprint.
+    /// The owner is found at the pixel's centre, with the distance to the border between it
+    /// and the runner-up ([`Owner::border_px`], from the first-order border function
+    /// `f = δ_j − δ_i`, whose zero is the border). Supersampling is adaptive: only a pixel that
+    /// a border may cross (centre less than [`BORDER_MARGIN_PX`] from it) is shaded at all
+    /// `supersample²` points, each owned by whichever side of the linearised border it lies
+    /// on. Inside a cell one evaluation suffices: the textures anti-alias themselves over the
+    /// pixel's footprint.
     #[must_use]
     pub fn shade<F>(&self, colour: F) -> RgbImage
     where
@@ -77,6 +79,7 @@ impl<'a> Scene<'a> {
         let step = r.step();
         let weight = 1.0 / (ss * ss) as f32;
         let mut out = vec![0u8; 3 * r.width * r.height];
+        let ppu = self.pixels_per_unit;
         self.cells
             .shade_rows(&centres, &mut out, 3 * r.width, |y, owners, row| {
                 for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
@@ -84,13 +87,19 @@ impl<'a> Scene<'a> {
                         continue;
                     }
                     let centre = centres.point(x, y);
-                    let near_border = ss > 1
-                        && o.triangle != NONE
-                        && self.cells.border_distance_at_least(o) * self.pixels_per_unit
-                            < BORDER_MARGIN_PX
-                        && self.cells.border_distance(centre, o) * self.pixels_per_unit
-                            < BORDER_MARGIN_PX;
-                    let c = if near_border {
+                    let mut o = *o;
+                    // The border: f = δ_j − δ_i ≥ 0 on the owner's side, linear to first order.
+                    let mut gradient = DVec2::ZERO;
+                    if self.cells.border_distance_at_least(&o) * ppu < BORDER_EXACT_PX {
+                        gradient = self.cells.border_gradient(centre, &o);
+                        let len = gradient.length();
+                        if len > 0.0 {
+                            o.border_px = (f64::from(o.delta2 - o.delta) / len * ppu) as f32;
+                        }
+                    }
+                    let c = if ss > 1 && f64::from(o.border_px) < BORDER_MARGIN_PX {
+                        let f0 = f64::from(o.delta2 - o.delta);
+                        let len = gradient.length();
                         let mut sum = [0.0f32; 3];
                         for j in 0..ss {
                             for i in 0..ss {
@@ -98,7 +107,14 @@ impl<'a> Scene<'a> {
                                     (x * ss + i) as f64 + 0.5,
                                     (y * ss + j) as f64 + 0.5,
                                 ) * step;
-                                let oq = self.cells.owner_in_triangle(o.triangle as usize, q);
+                                let f = f0 + gradient.dot(q - centre);
+                                let mut oq = o;
+                                if f < 0.0 {
+                                    // Across the border: the runner-up owns this point.
+                                    std::mem::swap(&mut oq.site, &mut oq.second);
+                                    std::mem::swap(&mut oq.delta, &mut oq.delta2);
+                                }
+                                oq.border_px = (f.abs() / len * ppu) as f32;
                                 let c = colour(q, &oq);
                                 for k in 0..3 {
                                     sum[k] += c[k];
@@ -107,7 +123,7 @@ impl<'a> Scene<'a> {
                         }
                         sum.map(|v| v * weight)
                     } else {
-                        colour(centre, o)
+                        colour(centre, &o)
                     };
                     for k in 0..3 {
                         px[k] = to_srgb(c[k]);

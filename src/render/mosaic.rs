@@ -3,8 +3,8 @@
 //!
 //! Borders are anti-aliased from the distance difference: the distance in pixels from a point
 //! to the border between its owner `i` and the runner-up `j` is about
-//! `(δ_j − δ_i) / |∇δ_j − ∇δ_i|` (first order), so borders keep an even width in pixels
-//! whatever the cell's size and stretch. Relief lights each cell as a dome `1 − δ_i²` from the
+//! `(δ_j − δ_i) / |∇δ_j − ∇δ_i|` (first order, measured by the scene), so borders keep an
+//! even width in pixels whatever the cell's size and stretch. Relief lights each cell as a dome `1 − δ_i²` from the
 //! upper left (GEGL's mosaic has a bevel of the same kind). Shading is `f32` in linear light.
 
 use super::colour::{mix, site_hash, to_srgb, Linear};
@@ -57,7 +57,7 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
             c = c.map(|v| (v * k).clamp(0.0, 1.0));
         }
         if params.border_width > 0.0 {
-            let ink = border_coverage(scene, p, o, params.border_width);
+            let ink = border_coverage(o, params.border_width);
             c = mix(c, border, ink);
         }
         c
@@ -65,16 +65,12 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
 }
 
 /// How much of a point is border ink: 1 within half the width of the border between its owner
-/// and the runner-up, falling to 0 over one pixel.
+/// and the runner-up, falling to 0 over one pixel. Uses the distance the scene measured
+/// ([`Owner::border_px`]); exact for borders up to twice
+/// [`BORDER_EXACT_PX`](super::voronoi::BORDER_EXACT_PX) wide.
 #[must_use]
-pub fn border_coverage(scene: &Scene, p: DVec2, o: &Owner, width: f32) -> f32 {
-    let half = f64::from(0.5 * width + 0.5);
-    // The cheap bound first: far from the border (the common case) no gradient is needed.
-    if scene.cells.border_distance_at_least(o) * scene.pixels_per_unit > half {
-        return 0.0;
-    }
-    let distance_px = (scene.cells.border_distance(p, o) * scene.pixels_per_unit) as f32;
-    (0.5 * width - distance_px + 0.5).clamp(0.0, 1.0)
+pub fn border_coverage(o: &Owner, width: f32) -> f32 {
+    (0.5 * width - o.border_px + 0.5).clamp(0.0, 1.0)
 }
 
 /// Encodes a linear colour as sRGB bytes.

@@ -164,7 +164,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             mix(paper, ink, cover)
         };
         if params.border_width > 0.0 {
-            c = mix(c, ink, border_coverage(scene, p, o, params.border_width));
+            c = mix(c, ink, border_coverage(o, params.border_width));
         }
         c
     })

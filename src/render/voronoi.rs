@@ -88,7 +88,15 @@ pub struct Owner {
     pub delta2: f32,
     /// The triangle whose candidates were searched (`NONE` after a brute-force search).
     pub triangle: u32,
+    /// Distance to the border between `site` and `second` in output pixels, when a look's
+    /// [`Scene`](super::Scene) has measured it (infinite otherwise, and when farther than
+    /// [`BORDER_EXACT_PX`]).
+    pub border_px: f32,
 }
+
+/// Border distances up to this many output pixels are measured to first order; farther ones
+/// are only known to be at least this far (enough for borders up to twice as wide).
+pub const BORDER_EXACT_PX: f64 = 8.0;
 
 /// What the owner search reads of a site, packed in one cache line: its position and
 /// `Q = m⁻ᵀm⁻¹` (so `δ² = yᵀQy`, no square root per candidate).
@@ -249,6 +257,7 @@ impl<'a> VoronoiCells<'a> {
             delta: best.1.sqrt() as f32,
             delta2: second.1.sqrt() as f32,
             triangle: t as u32,
+            border_px: f32::INFINITY,
         }
     }
 
@@ -257,20 +266,27 @@ impl<'a> VoronoiCells<'a> {
     /// packed `Q` and the owner's `δ`s. Infinite when there is no runner-up.
     #[must_use]
     pub fn border_distance(&self, p: DVec2, o: &Owner) -> f64 {
+        let len = self.border_gradient(p, o).length();
+        if len > 0.0 {
+            f64::from(o.delta2 - o.delta) / len
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// `∇δ_j − ∇δ_i` at `p` for the owner `i` and runner-up `j` of `o` (zero without one):
+    /// the gradient of `f = δ_j − δ_i`, which is zero on the border.
+    #[must_use]
+    pub fn border_gradient(&self, p: DVec2, o: &Owner) -> DVec2 {
         if o.second == NONE || o.delta <= 0.0 || o.delta2 <= 0.0 {
-            return f64::INFINITY;
+            return DVec2::ZERO;
         }
         let grad = |i: u32, delta: f32| {
             let q = &self.quads[i as usize];
             let (dx, dy) = (p.x - q.x, p.y - q.y);
             DVec2::new(q.qxx * dx + q.qxy * dy, q.qxy * dx + q.qyy * dy) / f64::from(delta)
         };
-        let len = (grad(o.second, o.delta2) - grad(o.site, o.delta)).length();
-        if len > 0.0 {
-            f64::from(o.delta2 - o.delta) / len
-        } else {
-            f64::INFINITY
-        }
+        grad(o.second, o.delta2) - grad(o.site, o.delta)
     }
 
     /// A lower bound of [`Self::border_distance`] without gradients: `|∇δ| ≤ 1/b`.
@@ -303,6 +319,7 @@ impl<'a> VoronoiCells<'a> {
             delta: best.1 as f32,
             delta2: second.1 as f32,
             triangle: NONE,
+            border_px: f32::INFINITY,
         }
     }
 
@@ -333,6 +350,7 @@ impl<'a> VoronoiCells<'a> {
                         delta: f32::INFINITY,
                         delta2: f32::INFINITY,
                         triangle: NONE,
+                        border_px: f32::INFINITY,
                     };
                     ss * raster.points_per_row()
                 ];
