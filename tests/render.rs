@@ -342,3 +342,48 @@ fn same_seed_same_picture_at_any_thread_count() {
         assert!(many == one, "{look} differs with one thread");
     }
 }
+
+#[test]
+fn pixel_ink_follows_the_photo_within_cells() {
+    use anisopaint::render::texture::{Ink, TextureKind, TextureParams};
+    // Left half red, right half blue, with a vertical stripe texture so the metric has a
+    // direction: hatch ink should be red on the left and blue on the right.
+    let photo = DynamicImage::ImageRgb8(RgbImage::from_fn(160, 100, |x, _| {
+        let stripe = if (x / 3) % 2 == 0 { 40 } else { 0 };
+        if x < 80 {
+            image::Rgb([200 - stripe, 20, 20])
+        } else {
+            image::Rgb([20, 20, 200 - stripe])
+        }
+    }));
+    let (_, metric) = field::photo_metric(&photo, &field::MetricParams::default());
+    let s = sampled(&metric);
+    let look = Look::Texture(TextureParams {
+        ink: Ink::Pixel(0.2),
+        ..TextureParams::for_kind(TextureKind::Hatch)
+    });
+    let img = render::render(
+        &look,
+        &s.positions,
+        &s.metrics,
+        &s.mesh,
+        &metric,
+        Some(&photo),
+        RenderSize {
+            width: 160,
+            height: 100,
+            supersample: 2,
+        },
+    );
+    // The darkest pixels of each side are its ink.
+    let darkest = |x0: u32, x1: u32| {
+        (x0..x1)
+            .flat_map(|x| (0..100).map(move |y| (x, y)))
+            .map(|(x, y)| img.get_pixel(x, y).0)
+            .min_by_key(|p| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]))
+            .unwrap()
+    };
+    let (left, right) = (darkest(5, 60), darkest(100, 155));
+    assert!(left[0] > left[2] + 40, "left ink {left:?}");
+    assert!(right[2] > right[0] + 40, "right ink {right:?}");
+}

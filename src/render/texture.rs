@@ -39,7 +39,13 @@ pub enum Ink {
     Fixed([u8; 3]),
     /// The cell's own colour, darkened by this factor (0 to 1).
     Cell(f32),
+    /// The photo's colour under the point, blurred (σ of [`INK_BLUR`] of the diagonal) and
+    /// darkened by this factor: colour changes within a cell; the cell colour without a photo.
+    Pixel(f32),
 }
+
+/// Blur of [`Ink::Pixel`], as a fraction of the photo's diagonal.
+pub const INK_BLUR: f32 = 0.002;
 
 /// Parameters of the textured looks.
 #[derive(Clone, Debug, PartialEq)]
@@ -88,7 +94,7 @@ impl TextureParams {
             },
             TextureKind::Line => TextureParams {
                 kind,
-                ink: Ink::Cell(0.5),
+                ink: Ink::Pixel(0.35),
                 ..base
             },
             TextureKind::Stipple => TextureParams {
@@ -139,13 +145,17 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
             let ink = match params.ink {
                 Ink::Fixed(rgb) => linear_of(rgb),
-                Ink::Cell(k) => colour.map(|v| v * (1.0 - k)),
+                Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
             };
             (darkness, ink)
         })
         .collect();
     let paper = linear_of(params.paper);
     let px = 1.0 / scene.pixels_per_unit;
+    let blurred = match (params.ink, scene.photo) {
+        (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
+        _ => None,
+    };
     scene.shade(|p, o| {
         let site = o.site;
         let f = frames[site as usize];
@@ -153,7 +163,10 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         // Domain units along the long (x) and short (y) axes.
         let local = DVec2::new(f.cos * d.x + f.sin * d.y, -f.sin * d.x + f.cos * d.y);
         let colour = scene.colours[site as usize];
-        let (darkness, ink) = tones[site as usize];
+        let (darkness, mut ink) = tones[site as usize];
+        if let (Ink::Pixel(k), Some(b)) = (params.ink, &blurred) {
+            ink = b.at(p).map(|v| v * (1.0 - k));
+        }
         let mut c = if let TextureKind::Stroke = params.kind {
             stroke(local, &f, site, colour, params, px)
         } else {
@@ -168,6 +181,54 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         }
         c
     })
+}
+
+/// The photo in linear light at a reduced resolution, blurred, for [`Ink::Pixel`].
+struct BlurredPhoto {
+    image: crate::field::structure::LinearImage,
+    factor: f64,
+}
+
+impl BlurredPhoto {
+    fn new(photo: &image::DynamicImage) -> Self {
+        use crate::field::structure::{analysis_factor, linear_analysis_image};
+        let (w, h) = (photo.width() as usize, photo.height() as usize);
+        let factor = analysis_factor(w, h, 1024);
+        let mut image = linear_analysis_image(photo, factor);
+        let diagonal = ((image.width * image.width + image.height * image.height) as f32).sqrt();
+        image.data = crate::field::blur::gaussian_blur_parallel(
+            &image.data,
+            image.width,
+            image.height,
+            3,
+            INK_BLUR * diagonal,
+        );
+        BlurredPhoto {
+            image,
+            factor: factor as f64,
+        }
+    }
+
+    /// The colour at domain point `p` (photo pixels), bilinear in the reduced image.
+    fn at(&self, p: DVec2) -> Linear {
+        let (w, h) = (self.image.width, self.image.height);
+        let x = (p.x / self.factor - 0.5).clamp(0.0, (w - 1) as f64);
+        let y = (p.y / self.factor - 0.5).clamp(0.0, (h - 1) as f64);
+        let (x0, y0) = (x as usize, y as usize);
+        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+        let (tx, ty) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
+        let px = |x: usize, y: usize| {
+            let i = 3 * (y * w + x);
+            [
+                self.image.data[i],
+                self.image.data[i + 1],
+                self.image.data[i + 2],
+            ]
+        };
+        let top = mix(px(x0, y0), px(x1, y0), tx);
+        let bottom = mix(px(x0, y1), px(x1, y1), tx);
+        mix(top, bottom, ty)
+    }
 }
 
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
