@@ -215,8 +215,12 @@ impl AnisotropicDelaunay {
     /// Whether every triangle is counter-clockwise with positive area at `points`.
     #[must_use]
     pub fn is_valid_at(&self, points: &[DVec2]) -> bool {
-        self.triangles().all(|[a, b, c]| {
-            orient(points[a as usize], points[b as usize], points[c as usize]) > 0.0
+        self.origin.par_chunks_exact(3).all(|t| {
+            orient(
+                points[t[0] as usize],
+                points[t[1] as usize],
+                points[t[2] as usize],
+            ) > 0.0
         })
     }
 

@@ -77,23 +77,34 @@ pub fn insertion_points(
     metric: &TensorField,
     rule: &InsertionRule,
 ) -> Vec<(usize, DVec2)> {
+    use rayon::prelude::*;
     let pressure = rule.pressure;
+    // Which triangles are holes: in parallel (the fill rates are most of the work), in order.
+    let holes: Vec<u32> = (0..mesh.num_triangles() as u32)
+        .into_par_iter()
+        .filter(|&t| {
+            let [a, b, c] = mesh.triangle(t as usize).map(|v| v as usize);
+            let p = [positions[a], positions[b], positions[c]];
+            let inv = [inverses[a], inverses[b], inverses[c]];
+            let crowded = (pressure[a] + pressure[b] + pressure[c]) / 3.0 > rule.max_pressure;
+            !crowded && fill_rate(p, inv) <= rule.fill_rate && has_room(p, inv, metric)
+        })
+        .collect();
+    // Then, in triangle order, at most one insertion touching each sample.
     let mut touched = vec![false; positions.len()];
     let mut out = Vec::new();
-    for (t, [a, b, c]) in mesh.triangles().enumerate() {
-        let (a, b, c) = (a as usize, b as usize, c as usize);
+    for t in holes {
+        let [a, b, c] = mesh.triangle(t as usize).map(|v| v as usize);
         if touched[a] || touched[b] || touched[c] {
             continue;
         }
-        let p = [positions[a], positions[b], positions[c]];
-        let inv = [inverses[a], inverses[b], inverses[c]];
-        let crowded = (pressure[a] + pressure[b] + pressure[c]) / 3.0 > rule.max_pressure;
-        if !crowded && fill_rate(p, inv) <= rule.fill_rate && has_room(p, inv, metric) {
-            touched[a] = true;
-            touched[b] = true;
-            touched[c] = true;
-            out.push((t, (p[0] + p[1] + p[2]) / 3.0));
-        }
+        touched[a] = true;
+        touched[b] = true;
+        touched[c] = true;
+        out.push((
+            t as usize,
+            (positions[a] + positions[b] + positions[c]) / 3.0,
+        ));
     }
     out
 }

@@ -17,6 +17,7 @@ use super::distance::normalised_distance;
 use super::rng::Rng;
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
+use rayon::prelude::*;
 
 /// Parameters of relaxation dart throwing (the paper's values are the defaults).
 #[derive(Clone, Debug, PartialEq)]
@@ -166,8 +167,17 @@ pub fn relaxation_dart_throwing(
     // Darts are drawn in batches and thrown in Morton order within a batch, so the grid and
     // the field are read mostly in order. A batch is small next to the target count (at most a
     // sixteenth), so its darts rarely compete with each other and the order does not show.
+    //
+    // Each batch is first tested in parallel against the samples accepted before it (the
+    // look-ups and most rejections happen there); then, in order, a dart that conflicted
+    // already is rejected (samples are only ever added, so it still conflicts), and the others
+    // are tested again against everything, those accepted earlier in the batch included. This
+    // accepts exactly the darts a purely sequential pass would, at any thread count. If ρ falls
+    // within a batch, the rest of the batch is tested sequentially (an earlier conflict at the
+    // larger ρ proves nothing at the smaller one).
     let batch_size = (target / 16).clamp(64, 4096);
     let mut batch: Vec<(u32, DVec2)> = Vec::with_capacity(batch_size);
+    let mut tested: Vec<Option<Dart>> = Vec::with_capacity(batch_size);
     let domain = metric.domain();
     'throwing: while interior(&positions) < target && darts < max_darts {
         batch.clear();
@@ -176,14 +186,24 @@ pub fn relaxation_dart_throwing(
             (morton_key(c, domain), c)
         }));
         batch.sort_unstable_by_key(|&(k, _)| k);
-        for &(_, c) in &batch {
+        let rho_batch = rho;
+        batch
+            .par_iter()
+            .map(|&(_, c)| {
+                let m = metric.sample(c);
+                m.inverse().map(|inv| {
+                    let a = long_axis(&m);
+                    let conflict = conflicts(&grid, &inverses, c, &inv, a, rho_batch);
+                    Dart { inv, a, conflict }
+                })
+            })
+            .collect_into_vec(&mut tested);
+        for (&(_, c), dart) in batch.iter().zip(&tested) {
             if interior(&positions) >= target {
                 break 'throwing;
             }
             darts += 1;
-            let m = metric.sample(c);
-            let Some(inv) = m.inverse() else { continue };
-            let a = long_axis(&m);
+            let Some(dart) = dart else { continue };
             if accepted + rejected == WINDOW {
                 if (accepted as f64) < params.epsilon * rejected as f64 {
                     if rho <= params.rho_min + 1e-12 {
@@ -194,17 +214,26 @@ pub fn relaxation_dart_throwing(
                 accepted = 0;
                 rejected = 0;
             }
-            if conflicts(&grid, &inverses, c, &inv, a, rho) {
+            let known_conflict = dart.conflict && rho == rho_batch;
+            if known_conflict || conflicts(&grid, &inverses, c, &dart.inv, dart.a, rho) {
                 rejected += 1;
                 continue;
             }
             accepted += 1;
-            grid.insert(positions.len() as u32, c, a, params.rho_start * a);
+            grid.insert(positions.len() as u32, c, dart.a, params.rho_start * dart.a);
             positions.push(c);
-            inverses.push(inv);
+            inverses.push(dart.inv);
         }
     }
     (positions.split_off(fixed.len()), rho)
+}
+
+/// A dart after the parallel test: its inverse metric, long semi-axis, and whether it
+/// conflicted with the samples accepted before its batch.
+struct Dart {
+    inv: Tensor,
+    a: f64,
+    conflict: bool,
 }
 
 /// Morton (Z-curve) key of `p` in `domain`, 16 bits per axis.
