@@ -4,7 +4,7 @@
 //!
 //! Run: `cargo bench --bench render`.
 
-use anisopaint::field::{photo_metric, MetricParams, TensorField};
+use anisopaint::field::{MetricParams, TensorField};
 use anisopaint::render::{render, Look, RenderSize};
 use anisopaint::sampling::{self, SamplerParams, Sampling};
 use criterion::measurement::WallTime;
@@ -16,14 +16,7 @@ use std::time::Duration;
 fn scene(w: u32, h: u32, n: f64) -> (DynamicImage, TensorField, Sampling) {
     let photo = image::open("samples/astronaut.jpg").expect("samples/astronaut.jpg");
     let photo = photo.resize_exact(w, h, image::imageops::FilterType::Triangle);
-    let mut params = MetricParams::default();
-    let mut field = photo_metric(&photo, &params).1;
-    for _ in 0..2 {
-        let k = (sampling::seeding::estimate_count(&field) / n).sqrt();
-        params.min_size *= k;
-        params.max_size *= k;
-        field = photo_metric(&photo, &params).1;
-    }
+    let (_, field) = sampling::seeding::photo_metric_for_count(&photo, &MetricParams::default(), n);
     let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
     (photo, field, s)
 }

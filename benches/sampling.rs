@@ -6,7 +6,7 @@
 //! `iter_custom`, so "iterations" excludes seeding. The 1 M case takes about 40 s per run and
 //! is measured only with `ANISOPAINT_BENCH_1M=1`.
 
-use anisopaint::field::{photo_metric, AnalyticField, MetricParams, TensorField};
+use anisopaint::field::{AnalyticField, MetricParams, TensorField};
 use anisopaint::sampling::{self, SamplerParams};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use std::time::Duration;
@@ -14,17 +14,7 @@ use std::time::Duration;
 /// The astronaut's metric with cell sizes scaled so that it needs about `n` samples.
 fn photo_field(n: f64) -> TensorField {
     let photo = image::open("samples/astronaut.jpg").expect("samples/astronaut.jpg");
-    let mut params = MetricParams::default();
-    let mut field = photo_metric(&photo, &params).1;
-    // The count does not scale exactly with the sizes (smoothing scales with them too), so
-    // the sizes are corrected twice.
-    for _ in 0..2 {
-        let k = (sampling::seeding::estimate_count(&field) / n).sqrt();
-        params.min_size *= k;
-        params.max_size *= k;
-        field = photo_metric(&photo, &params).1;
-    }
-    field
+    sampling::seeding::photo_metric_for_count(&photo, &MetricParams::default(), n).1
 }
 
 /// A constant isotropic field on a `side²` domain needing about `n` samples.

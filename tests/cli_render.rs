@@ -16,17 +16,7 @@ fn size_of(path: &Path) -> (u32, u32) {
 #[test]
 fn every_look_renders_at_the_asked_size() {
     let dir = tempfile::tempdir().unwrap();
-    for look in [
-        "mosaic",
-        "hatch",
-        "crosshatch",
-        "line",
-        "stroke",
-        "stipple",
-        "glyphs",
-        "fabric",
-        "lic",
-    ] {
+    for look in anisopaint::render::Look::NAMES {
         let out = dir.path().join(format!("{look}.png"));
         bin()
             .args([

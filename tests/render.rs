@@ -23,6 +23,22 @@ fn sampled(field: &TensorField) -> Sampling {
     sampling::sample(field, &SamplerParams::default()).unwrap()
 }
 
+/// `look` drawn from the sampling `s` of `field` at `width × height`, 2x2 supersampled.
+fn draw(
+    look: &Look,
+    s: &Sampling,
+    field: &TensorField,
+    photo: Option<&DynamicImage>,
+    (width, height): (usize, usize),
+) -> RgbImage {
+    let size = RenderSize {
+        width,
+        height,
+        supersample: 2,
+    };
+    render::render(look, &s.positions, &s.metrics, &s.mesh, field, photo, size)
+}
+
 /// Fraction of pixel centres (every `stride`-th in each direction) whose label is the
 /// brute-force owner.
 fn agreement(field: &TensorField, s: &Sampling, stride: usize) -> f64 {
@@ -129,19 +145,7 @@ fn hatch_lines_follow_a_constant_field() {
             256,
         );
         let s = sampled(&field);
-        let img = render::render(
-            &Look::named("hatch").unwrap(),
-            &s.positions,
-            &s.metrics,
-            &s.mesh,
-            &field,
-            None,
-            RenderSize {
-                width: 512,
-                height: 512,
-                supersample: 2,
-            },
-        );
+        let img = draw(&Look::named("hatch").unwrap(), &s, &field, None, (512, 512));
         let found = line_direction(&img);
         let off = (found - angle).rem_euclid(180.0);
         let off = off.min(180.0 - off);
@@ -156,18 +160,12 @@ fn flat_photo(value: u8, w: u32, h: u32) -> DynamicImage {
 fn render_photo(photo: &DynamicImage, look: &str, w: usize, h: usize) -> RgbImage {
     let (_, metric) = field::photo_metric(photo, &field::MetricParams::default());
     let s = sampled(&metric);
-    render::render(
+    draw(
         &Look::named(look).unwrap(),
-        &s.positions,
-        &s.metrics,
-        &s.mesh,
+        &s,
         &metric,
         Some(photo),
-        RenderSize {
-            width: w,
-            height: h,
-            supersample: 2,
-        },
+        (w, h),
     )
 }
 
@@ -296,19 +294,7 @@ fn looks_match_their_reference_pictures() {
     let field = analytic("two-point-load", 120, 80);
     let s = sampled(&field);
     for look in Look::NAMES {
-        let img = render::render(
-            &Look::named(look).unwrap(),
-            &s.positions,
-            &s.metrics,
-            &s.mesh,
-            &field,
-            None,
-            RenderSize {
-                width: 150,
-                height: 100,
-                supersample: 2,
-            },
-        );
+        let img = draw(&Look::named(look).unwrap(), &s, &field, None, (150, 100));
         check_reference(&img, look, 6);
     }
 }
@@ -317,21 +303,7 @@ fn looks_match_their_reference_pictures() {
 fn same_seed_same_picture_at_any_thread_count() {
     let field = analytic("degenerate-point", 160, 120);
     let s = sampled(&field);
-    let draw = |look: &str| {
-        render::render(
-            &Look::named(look).unwrap(),
-            &s.positions,
-            &s.metrics,
-            &s.mesh,
-            &field,
-            None,
-            RenderSize {
-                width: 200,
-                height: 150,
-                supersample: 2,
-            },
-        )
-    };
+    let draw = |look: &str| draw(&Look::named(look).unwrap(), &s, &field, None, (200, 150));
     for look in Look::NAMES {
         let many = draw(look);
         let one = rayon::ThreadPoolBuilder::new()
@@ -362,19 +334,7 @@ fn pixel_ink_follows_the_photo_within_cells() {
         ink: Ink::Pixel(0.2),
         ..TextureParams::for_kind(TextureKind::Hatch)
     });
-    let img = render::render(
-        &look,
-        &s.positions,
-        &s.metrics,
-        &s.mesh,
-        &metric,
-        Some(&photo),
-        RenderSize {
-            width: 160,
-            height: 100,
-            supersample: 2,
-        },
-    );
+    let img = draw(&look, &s, &metric, Some(&photo), (160, 100));
     // The darkest pixels of each side are its ink.
     let darkest = |x0: u32, x1: u32| {
         (x0..x1)

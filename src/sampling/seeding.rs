@@ -46,6 +46,27 @@ impl Default for DartParams {
 /// Darts per window over which the ratio accepted/rejected is judged.
 const WINDOW: u64 = 2000;
 
+/// The metric of `photo` with `params`' cell sizes (`min_size`, `max_size`) scaled so that
+/// about `count` samples fill it. Sizes are corrected twice: the count does not scale
+/// exactly with them, as smoothing and gradation scale too. Returns the scaled parameters
+/// and the metric.
+#[must_use]
+pub fn photo_metric_for_count(
+    photo: &image::DynamicImage,
+    params: &crate::field::MetricParams,
+    count: f64,
+) -> (crate::field::MetricParams, TensorField) {
+    let mut params = params.clone();
+    let mut field = crate::field::photo_metric(photo, &params).1;
+    for _ in 0..2 {
+        let k = (estimate_count(&field) / count.max(1.0)).sqrt();
+        params.min_size *= k;
+        params.max_size *= k;
+        field = crate::field::photo_metric(photo, &params).1;
+    }
+    (params, field)
+}
+
 /// Estimated sample count `∫ dA / (2√3 · det m)` over the grid nodes of `metric`.
 #[must_use]
 pub fn estimate_count(metric: &TensorField) -> f64 {
