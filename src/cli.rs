@@ -30,6 +30,52 @@ enum Command {
     /// Draw a look from the samples: Voronoi mosaics, textured cells, glyphs, fabric, LIC.
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
+    /// Paint a photo or field in a style preset: metric, sampling and look in one go.
+    #[command(after_help = PAINT_EXAMPLES)]
+    Paint(PaintArgs),
+    /// List the built-in style presets, or print one (`styles show NAME`) to copy and edit.
+    Styles(StylesArgs),
+}
+
+const PAINT_EXAMPLES: &str = "\
+Examples:
+  anisopaint paint samples/astronaut.jpg                 # mosaic, writes samples/astronaut.mosaic.png
+  anisopaint paint photo.jpg -s pen-hatch -o ink.png
+  anisopaint paint photo.jpg -s crosshatch --set look.lines_per_cell=6 --seed 3
+  anisopaint paint photo.jpg -s my-style.toml
+  anisopaint paint analytic:two-point-load -s fabric";
+
+#[derive(Debug, Args)]
+struct PaintArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    /// A built-in preset (see `anisopaint styles`) or a .toml file.
+    #[arg(short, long, default_value = crate::style::DEFAULT_STYLE)]
+    style: String,
+    /// Output image; default INPUT-STEM.STYLE.png beside the input.
+    #[arg(short, long)]
+    out: Option<PathBuf>,
+    /// Seed of the sampler (overrides the preset's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Override one preset key for this run, e.g. --set metric.max_anisotropy=6 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+}
+
+#[derive(Debug, Args)]
+struct StylesArgs {
+    #[command(subcommand)]
+    action: Option<StylesAction>,
+}
+
+#[derive(Debug, Subcommand)]
+enum StylesAction {
+    /// Print a preset's full TOML.
+    Show {
+        /// A built-in preset name.
+        name: String,
+    },
 }
 
 const RENDER_EXAMPLES: &str = "\
@@ -222,6 +268,8 @@ where
         Command::Field(args) => run_field(&args),
         Command::Sample(args) => run_sample(&args),
         Command::Render(args) => run_render(&args),
+        Command::Paint(args) => run_paint(&args),
+        Command::Styles(args) => run_styles(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -513,4 +561,73 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         size,
     );
     crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))
+}
+
+fn run_styles(args: &StylesArgs) -> Result<()> {
+    use crate::style::{built_in, load, BUILT_IN};
+    match &args.action {
+        None => {
+            for (name, _) in BUILT_IN {
+                let description = load(name)?.file.description.unwrap_or_default();
+                println!("{name:<12} {description}");
+            }
+        }
+        Some(StylesAction::Show { name }) => {
+            let text = built_in(name).ok_or_else(|| {
+                let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+                Error::param(
+                    "style",
+                    format!("unknown style {name}; built-in: {}", names.join(", ")),
+                )
+            })?;
+            print!("{text}");
+        }
+    }
+    Ok(())
+}
+
+fn run_paint(args: &PaintArgs) -> Result<()> {
+    use crate::render::{render, RenderSize};
+    let (input, mut options) = args.input.plan()?;
+    let mut preset = crate::style::load(&args.style)?;
+    crate::style::apply_sets(&mut preset, &args.sets)?;
+    options.metric = preset.metric()?;
+    let mut sampler = preset.sampler();
+    if let Some(seed) = args.seed {
+        sampler.seed = seed;
+    }
+    let look = preset.look()?;
+    let out = match &args.out {
+        Some(out) => out.clone(),
+        None => default_output(&input, &preset.name),
+    };
+    check_output(&input, &out)?;
+    let loaded = field::load_field(&input, &options)?;
+    let field = &loaded.metric;
+    let s = crate::sampling::sample(field, &sampler)?;
+    let d = field.domain();
+    let size = RenderSize {
+        width: d.x.round().max(1.0) as usize,
+        height: d.y.round().max(1.0) as usize,
+        supersample: preset.supersample(),
+    };
+    let img = render(
+        &look,
+        &s.positions,
+        &s.metrics,
+        &s.mesh,
+        field,
+        loaded.photo.as_ref(),
+        size,
+    );
+    crate::io::save_image(&out, &DynamicImage::ImageRgb8(img))
+}
+
+/// `INPUT-STEM.STYLE.png` beside a file input, in the current folder for an analytic one.
+fn default_output(input: &Input, style: &str) -> PathBuf {
+    let name = format!("{}.{style}.png", input.stem());
+    match input {
+        Input::Photo(p) | Input::Npy(p) => p.with_file_name(name),
+        Input::Analytic(_) => PathBuf::from(name),
+    }
 }

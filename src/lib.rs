@@ -4,8 +4,8 @@
 //!
 //! The data flows through the modules in order: [`field`] (tensors, structure tensor, metric)
 //! → [`sampling`] (seeding, forces, anisotropic Delaunay, population
-//! control, quality) → [`render`] (Voronoi cells, mosaics, textures, glyphs, fabric) → styles
-//! → [`cli`]. [`io`] reads inputs and writes outputs
+//! control, quality) → [`render`] (Voronoi cells, mosaics, textures, glyphs, fabric) →
+//! [`style`] (presets) → [`cli`]. [`io`] reads inputs and writes outputs
 //! atomically; [`error`] is the one error type.
 
 #![forbid(unsafe_code)]
@@ -17,5 +17,6 @@ pub mod field;
 pub mod io;
 pub mod render;
 pub mod sampling;
+pub mod style;
 
 pub use error::{Error, Result};

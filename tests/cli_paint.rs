@@ -1,0 +1,160 @@
+//! `anisopaint paint` and `anisopaint styles` through the real binary: presets by name and by
+//! file, `extends`, `--set`, the default output name beside the input, byte-identical output
+//! for a seed, and one-line errors (exit 2) for bad presets.
+
+use assert_cmd::Command;
+
+fn bin() -> Command {
+    Command::cargo_bin("anisopaint").unwrap()
+}
+
+#[test]
+fn styles_lists_and_shows_the_presets() {
+    let out = bin()
+        .arg("styles")
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let text = String::from_utf8(out).unwrap();
+    for name in anisopaint::style::BUILT_IN.map(|(n, _)| n) {
+        assert!(
+            text.lines().any(|l| l.starts_with(name)),
+            "{name} missing:\n{text}"
+        );
+    }
+    assert!(text.lines().count() >= 8);
+    let out = bin()
+        .args(["styles", "show", "pen-hatch"])
+        .assert()
+        .success();
+    let shown = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    assert_eq!(shown, anisopaint::style::built_in("pen-hatch").unwrap());
+    bin().args(["styles", "show", "nope"]).assert().code(2);
+}
+
+#[test]
+fn paint_writes_beside_the_input_and_is_reproducible() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = dir.path().join("cat.png");
+    std::fs::copy("samples/chelsea.png", &photo).unwrap();
+    bin().arg("paint").arg(&photo).assert().success();
+    let default = dir.path().join("cat.mosaic.png");
+    assert_eq!(image::image_dimensions(&default).unwrap(), (451, 300));
+    for (style, name) in [("pen-hatch", "a.png"), ("pen-hatch", "b.png")] {
+        bin()
+            .arg("paint")
+            .arg(&photo)
+            .args(["-s", style, "--seed", "5", "-o"])
+            .arg(dir.path().join(name))
+            .assert()
+            .success();
+    }
+    let (a, b) = (
+        std::fs::read(dir.path().join("a.png")).unwrap(),
+        std::fs::read(dir.path().join("b.png")).unwrap(),
+    );
+    assert_eq!(a, b, "same seed, same bytes");
+    // The input is never the output.
+    bin()
+        .arg("paint")
+        .arg(&photo)
+        .arg("-o")
+        .arg(&photo)
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn own_presets_extend_and_set_overrides() {
+    let dir = tempfile::tempdir().unwrap();
+    let mine = dir.path().join("thick.toml");
+    std::fs::write(
+        &mine,
+        "description = \"mosaic with thick leading\"\nextends = \"mosaic\"\n[look]\nborder_width = 5.0\n",
+    )
+    .unwrap();
+    let (thin, thick) = (dir.path().join("thin.png"), dir.path().join("thick.png"));
+    bin()
+        .args(["paint", "samples/coffee.png", "-s", "mosaic", "-o"])
+        .arg(&thin)
+        .assert()
+        .success();
+    bin()
+        .args(["paint", "samples/coffee.png", "-s"])
+        .arg(&mine)
+        .arg("-o")
+        .arg(&thick)
+        .assert()
+        .success();
+    // Thicker leading: more dark pixels.
+    let dark = |p: &std::path::Path| {
+        image::open(p)
+            .unwrap()
+            .to_rgb8()
+            .pixels()
+            .filter(|px| px.0.iter().all(|&v| v < 60))
+            .count()
+    };
+    assert!(
+        dark(&thick) > dark(&thin) * 2,
+        "{} vs {}",
+        dark(&thick),
+        dark(&thin)
+    );
+    let set = dir.path().join("set.png");
+    bin()
+        .args([
+            "paint",
+            "samples/coffee.png",
+            "-s",
+            "mosaic",
+            "--set",
+            "look.border_width=5.0",
+        ])
+        .arg("-o")
+        .arg(&set)
+        .assert()
+        .success();
+    assert_eq!(std::fs::read(&set).unwrap(), std::fs::read(&thick).unwrap());
+}
+
+#[test]
+fn bad_presets_fail_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[look]\nkind = \"mosaic\"\nborder_widht = 2\n").unwrap();
+    let wrong_type = dir.path().join("type.toml");
+    std::fs::write(&wrong_type, "[metric]\nmax_anisotropy = \"lots\"\n").unwrap();
+    let out = dir.path().join("o.png");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["-s".into(), bad.display().to_string()], "bad.toml:3:1"),
+        (
+            vec!["-s".into(), wrong_type.display().to_string()],
+            "type.toml:2:18",
+        ),
+        (vec!["-s".into(), "nope".into()], "built-in: mosaic"),
+        (
+            vec!["--set".into(), "look.kind=watercolour".into()],
+            "look.kind",
+        ),
+        (vec!["--set".into(), "look.bordr=1".into()], "border_width"),
+        (
+            vec!["--set".into(), "metric.max_size=-1".into()],
+            "max_size",
+        ),
+    ];
+    for (extra, expect) in cases {
+        let assert = bin()
+            .args(["paint", "samples/chelsea.png", "-o"])
+            .arg(&out)
+            .args(&extra)
+            .assert()
+            .code(2);
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+        assert_eq!(stderr.trim().lines().count(), 1, "{extra:?}: {stderr}");
+        assert!(stderr.contains(expect), "{extra:?}: {stderr}");
+        assert!(!out.exists());
+    }
+}
