@@ -35,6 +35,19 @@ enum Command {
     Paint(PaintArgs),
     /// List the built-in style presets, or print one (`styles show NAME`) to copy and edit.
     Styles(StylesArgs),
+    /// Print how a PNG written by `paint` was made: preset, overridden keys, seed, version.
+    Info(InfoArgs),
+    /// Print a shell completion script, e.g. `anisopaint completions bash > anisopaint.bash`.
+    Completions {
+        /// bash, zsh, fish, elvish or powershell.
+        shell: clap_complete::Shell,
+    },
+}
+
+#[derive(Debug, Args)]
+struct InfoArgs {
+    /// A PNG written by `anisopaint paint`.
+    file: PathBuf,
 }
 
 const PAINT_EXAMPLES: &str = "\
@@ -270,6 +283,17 @@ where
         Command::Render(args) => run_render(&args),
         Command::Paint(args) => run_paint(&args),
         Command::Styles(args) => run_styles(&args),
+        Command::Info(args) => run_info(&args),
+        Command::Completions { shell } => {
+            use clap::CommandFactory;
+            clap_complete::generate(
+                shell,
+                &mut Cli::command(),
+                "anisopaint",
+                &mut std::io::stdout(),
+            );
+            Ok(())
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -620,7 +644,46 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         loaded.photo.as_ref(),
         size,
     );
-    crate::io::save_image(&out, &DynamicImage::ImageRgb8(img))
+    let is_png = matches!(
+        image::ImageFormat::from_path(&out),
+        Ok(image::ImageFormat::Png) | Err(_)
+    );
+    if !is_png {
+        return crate::io::save_image(&out, &DynamicImage::ImageRgb8(img));
+    }
+    let mut command = format!(
+        "anisopaint paint {} -s {} --seed {}",
+        args.input.input, args.style, sampler.seed
+    );
+    for set in &args.sets {
+        command.push_str(&format!(" --set {set}"));
+    }
+    let texts = [
+        (
+            "Software",
+            format!("anisopaint {}", env!("CARGO_PKG_VERSION")),
+        ),
+        ("anisopaint:style", preset.name.clone()),
+        ("anisopaint:set", args.sets.join("; ")),
+        ("anisopaint:seed", sampler.seed.to_string()),
+        ("anisopaint:command", command),
+    ]
+    .map(|(k, v)| (k.to_string(), v));
+    crate::io::save_png_with_text(&out, &img, &texts)
+}
+
+fn run_info(args: &InfoArgs) -> Result<()> {
+    let texts = crate::io::read_png_text(&args.file)?;
+    if texts.is_empty() {
+        println!(
+            "{}: no text chunks (not written by anisopaint paint?)",
+            args.file.display()
+        );
+    }
+    for (key, text) in texts {
+        println!("{key}: {text}");
+    }
+    Ok(())
 }
 
 /// `INPUT-STEM.STYLE.png` beside a file input, in the current folder for an analytic one.

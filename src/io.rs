@@ -282,6 +282,64 @@ pub fn write_labels_npy(path: &Path, labels: &[i32], width: usize, height: usize
     })
 }
 
+/// Encodes `img` as PNG at `path` atomically, with `texts` as iTXt chunks (keyword, UTF-8
+/// text): what a result needs to be reproduced.
+pub fn save_png_with_text(
+    path: &Path,
+    img: &image::RgbImage,
+    texts: &[(String, String)],
+) -> Result<()> {
+    let encode = |reason: String| Error::Encode {
+        path: path.into(),
+        reason,
+    };
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, img.width(), img.height());
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        for (key, text) in texts {
+            encoder
+                .add_itxt_chunk(key.clone(), text.clone())
+                .map_err(|e| encode(e.to_string()))?;
+        }
+        let mut writer = encoder.write_header().map_err(|e| encode(e.to_string()))?;
+        writer
+            .write_image_data(img.as_raw())
+            .map_err(|e| encode(e.to_string()))?;
+    }
+    write_atomic(path, |w| w.write_all(&bytes))
+}
+
+/// The text chunks (tEXt, zTXt, iTXt) of the PNG at `path`, as (keyword, text), in file
+/// order within each kind.
+pub fn read_png_text(path: &Path) -> Result<Vec<(String, String)>> {
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let decode = |reason: String| Error::Decode {
+        path: path.into(),
+        reason,
+    };
+    let mut reader = png::Decoder::new(BufReader::new(file))
+        .read_info()
+        .map_err(|e| decode(e.to_string()))?;
+    // Text after the image data is read with the rest of the file.
+    let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
+    let _ = reader.next_frame(&mut buf);
+    let info = reader.info();
+    let mut out: Vec<(String, String)> = info
+        .uncompressed_latin1_text
+        .iter()
+        .map(|t| (t.keyword.clone(), t.text.clone()))
+        .collect();
+    for t in &info.compressed_latin1_text {
+        out.push((t.keyword.clone(), t.get_text().unwrap_or_default()));
+    }
+    for t in &info.utf8_text {
+        out.push((t.keyword.clone(), t.get_text().unwrap_or_default()));
+    }
+    Ok(out)
+}
+
 /// Writes `text` to `path` atomically.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_atomic(path, |w| w.write_all(text.as_bytes()))
