@@ -33,6 +33,9 @@ enum Command {
     /// Paint a photo or field in a style preset: metric, sampling and look in one go.
     #[command(after_help = PAINT_EXAMPLES)]
     Paint(PaintArgs),
+    /// Paint every image of folders or a file list in one style, in parallel, resumable.
+    #[command(after_help = BATCH_EXAMPLES)]
+    Batch(BatchArgs),
     /// List the built-in style presets, or print one (`styles show NAME`) to copy and edit.
     Styles(StylesArgs),
     /// Print how a PNG written by `paint` was made: preset, overridden keys, seed, version.
@@ -74,6 +77,49 @@ struct PaintArgs {
     /// Override one preset key for this run, e.g. --set metric.max_anisotropy=6 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
+}
+
+const BATCH_EXAMPLES: &str = "\
+Examples:
+  anisopaint batch photos/ -s pen-hatch -o painted/ --recursive --jobs 2
+  anisopaint batch a.jpg b.jpg c.png -s mosaic -o out/
+  parallel anisopaint batch photos/ -s mosaic -o out/ --shard {}/8 ::: 1 2 3 4 5 6 7 8
+  (Slurm) anisopaint batch photos/ -s mosaic -o out/ --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT
+
+Exit status: 0 when every file was painted or skipped, 1 when some failed, 2 for bad usage.";
+
+#[derive(Debug, Args)]
+struct BatchArgs {
+    /// Folders (their images) and image files.
+    #[arg(required = true)]
+    sources: Vec<PathBuf>,
+    /// A built-in preset or a .toml file.
+    #[arg(short, long, default_value = crate::style::DEFAULT_STYLE)]
+    style: String,
+    /// Output folder (created); the folder structure below each source folder is kept.
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Also paint the images in subfolders.
+    #[arg(long)]
+    recursive: bool,
+    /// Images painted at once (memory is bounded as well).
+    #[arg(long, default_value_t = 2)]
+    jobs: usize,
+    /// Paint again over outputs that exist (otherwise they are skipped).
+    #[arg(long)]
+    force: bool,
+    /// Paint only the i-th of n equal shares of the sorted file list, e.g. 2/8.
+    #[arg(long)]
+    shard: Option<String>,
+    /// Seed of the sampler (overrides the preset's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Override one preset key (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Print nothing but failures.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(Debug, Args)]
@@ -283,6 +329,7 @@ where
         Command::Render(args) => run_render(&args),
         Command::Paint(args) => run_paint(&args),
         Command::Styles(args) => run_styles(&args),
+        Command::Batch(args) => return run_batch(&args),
         Command::Info(args) => run_info(&args),
         Command::Completions { shell } => {
             use clap::CommandFactory;
@@ -611,7 +658,6 @@ fn run_styles(args: &StylesArgs) -> Result<()> {
 }
 
 fn run_paint(args: &PaintArgs) -> Result<()> {
-    use crate::render::{render, RenderSize};
     let (input, mut options) = args.input.plan()?;
     let mut preset = crate::style::load(&args.style)?;
     crate::style::apply_sets(&mut preset, &args.sets)?;
@@ -620,56 +666,20 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
     if let Some(seed) = args.seed {
         sampler.seed = seed;
     }
-    let look = preset.look()?;
     let out = match &args.out {
         Some(out) => out.clone(),
         None => default_output(&input, &preset.name),
     };
     check_output(&input, &out)?;
-    let loaded = field::load_field(&input, &options)?;
-    let field = &loaded.metric;
-    let s = crate::sampling::sample(field, &sampler)?;
-    let d = field.domain();
-    let size = RenderSize {
-        width: d.x.round().max(1.0) as usize,
-        height: d.y.round().max(1.0) as usize,
-        supersample: preset.supersample(),
+    let img = crate::style::paint(&input, &options, &preset, &sampler)?;
+    let record = crate::style::PaintRecord {
+        input: args.input.input.clone(),
+        style: args.style.clone(),
+        preset: preset.name.clone(),
+        sets: args.sets.clone(),
+        seed: sampler.seed,
     };
-    let img = render(
-        &look,
-        &s.positions,
-        &s.metrics,
-        &s.mesh,
-        field,
-        loaded.photo.as_ref(),
-        size,
-    );
-    let is_png = matches!(
-        image::ImageFormat::from_path(&out),
-        Ok(image::ImageFormat::Png) | Err(_)
-    );
-    if !is_png {
-        return crate::io::save_image(&out, &DynamicImage::ImageRgb8(img));
-    }
-    let mut command = format!(
-        "anisopaint paint {} -s {} --seed {}",
-        args.input.input, args.style, sampler.seed
-    );
-    for set in &args.sets {
-        command.push_str(&format!(" --set {set}"));
-    }
-    let texts = [
-        (
-            "Software",
-            format!("anisopaint {}", env!("CARGO_PKG_VERSION")),
-        ),
-        ("anisopaint:style", preset.name.clone()),
-        ("anisopaint:set", args.sets.join("; ")),
-        ("anisopaint:seed", sampler.seed.to_string()),
-        ("anisopaint:command", command),
-    ]
-    .map(|(k, v)| (k.to_string(), v));
-    crate::io::save_png_with_text(&out, &img, &texts)
+    crate::style::save_painting(&out, &img, &record)
 }
 
 fn run_info(args: &InfoArgs) -> Result<()> {
@@ -693,4 +703,100 @@ fn default_output(input: &Input, style: &str) -> PathBuf {
         Input::Photo(p) | Input::Npy(p) => p.with_file_name(name),
         Input::Analytic(_) => PathBuf::from(name),
     }
+}
+
+/// Runs a batch; its exit status is its own (1 when some items failed).
+fn run_batch(args: &BatchArgs) -> ExitCode {
+    match batch(args) {
+        Ok(failed) if failed > 0 => ExitCode::from(1),
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("anisopaint: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Plans and runs a batch; returns how many items failed.
+fn batch(args: &BatchArgs) -> Result<usize> {
+    use crate::batch::{parse_shard, plan, run, Outcome};
+    let mut preset = crate::style::load(&args.style)?;
+    crate::style::apply_sets(&mut preset, &args.sets)?;
+    let options = FieldOptions {
+        metric: preset.metric()?,
+        ..FieldOptions::default()
+    };
+    let mut sampler = preset.sampler();
+    if let Some(seed) = args.seed {
+        sampler.seed = seed;
+    }
+    preset.look()?;
+    let shard = match &args.shard {
+        Some(s) => parse_shard(s)?,
+        None => (1, 1),
+    };
+    let items = plan(
+        &args.sources,
+        args.recursive,
+        &args.out,
+        &preset.name,
+        shard,
+    )?;
+    let total = items.len();
+    let done_count = std::sync::atomic::AtomicUsize::new(0);
+    let outcomes = run(
+        &items,
+        args.jobs,
+        args.force,
+        |item| {
+            let input = Input::Photo(item.input.clone());
+            let img = crate::style::paint(&input, &options, &preset, &sampler)?;
+            let record = crate::style::PaintRecord {
+                input: item.input.display().to_string(),
+                style: args.style.clone(),
+                preset: preset.name.clone(),
+                sets: args.sets.clone(),
+                seed: sampler.seed,
+            };
+            crate::style::save_painting(&item.output, &img, &record)
+        },
+        |k, outcome| {
+            let n = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            let what = match outcome {
+                Outcome::Done => "painted".to_string(),
+                Outcome::Skipped => "exists, skipped".to_string(),
+                // The library's errors name the file already.
+                Outcome::Failed(why) => format!("FAILED: {}", one_line(why)),
+            };
+            if !args.quiet || matches!(outcome, Outcome::Failed(_)) {
+                eprintln!("[{n}/{total}] {}: {what}", items[k].input.display());
+            }
+        },
+    );
+    let count = |f: fn(&Outcome) -> bool| outcomes.iter().filter(|o| f(o)).count();
+    let (done, skipped) = (
+        count(|o| *o == Outcome::Done),
+        count(|o| *o == Outcome::Skipped),
+    );
+    let failed: Vec<(usize, &String)> = outcomes
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| match o {
+            Outcome::Failed(why) => Some((k, why)),
+            _ => None,
+        })
+        .collect();
+    println!(
+        "{total} files: {done} painted, {skipped} skipped (already there), {} failed",
+        failed.len()
+    );
+    for (_, why) in &failed {
+        println!("  failed: {}", one_line(why));
+    }
+    Ok(failed.len())
+}
+
+/// `text` with its line breaks folded, for one-line reports.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }

@@ -5,12 +5,13 @@
 //! The data flows through the modules in order: [`field`] (tensors, structure tensor, metric)
 //! → [`sampling`] (seeding, forces, anisotropic Delaunay, population
 //! control, quality) → [`render`] (Voronoi cells, mosaics, textures, glyphs, fabric) →
-//! [`style`] (presets) → [`cli`]. [`io`] reads inputs and writes outputs
-//! atomically; [`error`] is the one error type.
+//! [`style`] (presets) → [`cli`]. [`io`] reads inputs and writes outputs atomically;
+//! [`batch`] plans and runs folder batches; [`error`] is the one error type.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod cli;
 pub mod error;
 pub mod field;

@@ -1,0 +1,164 @@
+//! `anisopaint batch` through the real binary: good files painted, bad ones listed with their
+//! cause and exit 1, folder structure kept, resumed runs skip what exists, `--force` redoes,
+//! shards partition the work, and a batch killed midway completes on a rerun with no damaged
+//! outputs.
+
+use assert_cmd::Command;
+use std::path::{Path, PathBuf};
+
+fn bin() -> Command {
+    Command::cargo_bin("anisopaint").unwrap()
+}
+
+/// A folder with two good photos (one in a subfolder) and a truncated one.
+fn folder(root: &Path) -> PathBuf {
+    let input = root.join("in");
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    std::fs::copy("samples/chelsea.png", input.join("cat.png")).unwrap();
+    std::fs::copy("samples/coffee.png", input.join("sub/cup.png")).unwrap();
+    let jpeg = std::fs::read("samples/astronaut.jpg").unwrap();
+    std::fs::write(input.join("broken.jpg"), &jpeg[..500]).unwrap();
+    input
+}
+
+fn pngs(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let p = entry.unwrap().path();
+        if p.is_dir() {
+            out.extend(pngs(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn good_files_painted_bad_ones_listed_and_resumed() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = folder(dir.path());
+    let out = dir.path().join("out");
+    let run = bin()
+        .arg("batch")
+        .arg(&input)
+        .args(["-s", "mosaic", "--recursive", "-o"])
+        .arg(&out)
+        .assert()
+        .code(1);
+    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    assert!(stdout.contains("2 painted"), "{stdout}");
+    assert!(
+        stdout.contains("1 failed") && stdout.contains("broken.jpg"),
+        "{stdout}"
+    );
+    assert_eq!(
+        pngs(&out),
+        vec![out.join("cat.mosaic.png"), out.join("sub/cup.mosaic.png")]
+    );
+    // No partial files anywhere.
+    assert!(pngs(&out).iter().all(|p| image::open(p).is_ok()));
+    let before = std::fs::metadata(out.join("cat.mosaic.png"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    let run = bin()
+        .arg("batch")
+        .arg(&input)
+        .args(["-s", "mosaic", "--recursive", "-o"])
+        .arg(&out)
+        .assert()
+        .code(1);
+    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    assert!(stdout.contains("0 painted, 2 skipped"), "{stdout}");
+    let after = std::fs::metadata(out.join("cat.mosaic.png"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(before, after);
+    let run = bin()
+        .arg("batch")
+        .arg(input.join("cat.png"))
+        .args(["-s", "mosaic", "--force", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
+    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    assert!(stdout.contains("1 painted"), "{stdout}");
+}
+
+#[test]
+fn shards_split_the_work_without_overlap() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = folder(dir.path());
+    std::fs::remove_file(input.join("broken.jpg")).unwrap();
+    let out = dir.path().join("out");
+    for shard in ["1/2", "2/2"] {
+        let run = bin()
+            .arg("batch")
+            .arg(&input)
+            .args(["-s", "glyphs", "--recursive", "--shard", shard, "-o"])
+            .arg(&out)
+            .assert()
+            .success();
+        let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+        assert!(stdout.contains("1 files: 1 painted"), "{shard}: {stdout}");
+    }
+    assert_eq!(pngs(&out).len(), 2);
+    bin()
+        .arg("batch")
+        .arg(&input)
+        .args(["--shard", "3/2", "-o"])
+        .arg(&out)
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn a_killed_batch_completes_on_rerun() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    for k in 0..6 {
+        std::fs::copy("samples/astronaut.jpg", input.join(format!("p{k}.jpg"))).unwrap();
+    }
+    let out = dir.path().join("out");
+    let exe = assert_cmd::cargo::cargo_bin("anisopaint");
+    let mut child = std::process::Command::new(&exe)
+        .arg("batch")
+        .arg(&input)
+        .args(["-s", "fabric", "--jobs", "1", "-q", "-o"])
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    // Kill it once the first picture is there (or after a while).
+    for _ in 0..400 {
+        if out.exists() && !pngs(&out).is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(25));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    // Whatever was written is whole.
+    for p in pngs(&out)
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+    {
+        assert!(image::open(p).is_ok(), "{} is damaged", p.display());
+    }
+    bin()
+        .arg("batch")
+        .arg(&input)
+        .args(["-s", "fabric", "-q", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
+    let done: Vec<PathBuf> = pngs(&out)
+        .into_iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    assert_eq!(done.len(), 6);
+    assert!(done.iter().all(|p| image::open(p).is_ok()));
+}
