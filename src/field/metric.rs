@@ -15,7 +15,7 @@
 //!   one ellipse (without this last step photos' packings overlap several times more).
 //!
 //! General symmetric tensors (stress, with negative eigenvalues) become a metric by the
-//! anti-symmetric mapping of [HFH*04]: eigenvectors kept, each eigenvalue λ mapped to the
+//! anti-symmetric mapping of \[HFH*04\]: eigenvectors kept, each eigenvalue λ mapped to the
 //! semi-axis `s·exp(κ·λ/max|λ|)`.
 
 use super::blur::gaussian_blur_parallel;

@@ -13,8 +13,9 @@
 //!
 //! A [`Raster`] places `supersample²` points in every output pixel; [`VoronoiCells::shade_rows`]
 //! hands each output row its points' [`Owner`]s, band by band, so memory stays a few rows deep
-//! whatever the image size. [`VoronoiCells::border_distance`] tells how far a point is from
-//! its cell's border, which lets looks supersample only the pixels a border crosses. Positions and distances are `f64` (sites carry `f64` metrics);
+//! whatever the image size. [`VoronoiCells::border_gradient`] gives the first-order distance
+//! from a point to its cell's border, which lets looks supersample only the pixels a border
+//! crosses. Positions and distances are `f64` (sites carry `f64` metrics);
 //! the per-point record is `f32`, enough for shading.
 
 use crate::field::Tensor;
@@ -203,12 +204,6 @@ impl<'a> VoronoiCells<'a> {
         self.metrics
     }
 
-    /// The sites' inverse metrics.
-    #[must_use]
-    pub fn inverses(&self) -> &[Tensor] {
-        &self.inverses
-    }
-
     /// `δ_i(p)`.
     #[inline]
     #[must_use]
@@ -261,19 +256,6 @@ impl<'a> VoronoiCells<'a> {
         }
     }
 
-    /// Distance from `p` to the border between its owner and the runner-up, in domain units,
-    /// to first order: `(δ_j − δ_i) / |∇δ_j − ∇δ_i|`, with `∇δ = Q (p − p_i) / δ` from the
-    /// packed `Q` and the owner's `δ`s. Infinite when there is no runner-up.
-    #[must_use]
-    pub fn border_distance(&self, p: DVec2, o: &Owner) -> f64 {
-        let len = self.border_gradient(p, o).length();
-        if len > 0.0 {
-            f64::from(o.delta2 - o.delta) / len
-        } else {
-            f64::INFINITY
-        }
-    }
-
     /// `∇δ_j − ∇δ_i` at `p` for the owner `i` and runner-up `j` of `o` (zero without one):
     /// the gradient of `f = δ_j − δ_i`, which is zero on the border.
     #[must_use]
@@ -289,7 +271,9 @@ impl<'a> VoronoiCells<'a> {
         grad(o.second, o.delta2) - grad(o.site, o.delta)
     }
 
-    /// A lower bound of [`Self::border_distance`] without gradients: `|∇δ| ≤ 1/b`.
+    /// A lower bound of the distance from a point to the border between its owner and the
+    /// runner-up, `(δ_j − δ_i) / |∇δ_j − ∇δ_i|` to first order, without gradients:
+    /// `|∇δ| ≤ 1/b`.
     #[inline]
     #[must_use]
     pub fn border_distance_at_least(&self, o: &Owner) -> f64 {

@@ -1,4 +1,4 @@
-//! Boundary samples (paper section 5.1, after [SYI00]): the four corners, then each edge
+//! Boundary samples (paper section 5.1, after \[SYI00\]): the four corners, then each edge
 //! subdivided so that neighbours sit at normalised distance about 1 along it, jittered and
 //! relaxed by 1-D particle movement with the force spline so they are not structured. All of
 //! them stay fixed for the rest of the run, which closes the domain: no particle leaves it and

@@ -1,4 +1,4 @@
-//! Relaxation dart throwing (paper section 5.1, after [ME92]) for the interior samples.
+//! Relaxation dart throwing (paper section 5.1, after \[ME92\]) for the interior samples.
 //!
 //! A candidate is accepted unless its normalised distance to an accepted sample is below ρ.
 //! ρ starts at 0.9 and drops by 0.05, down to 0.75, whenever the ratio of accepted to rejected
