@@ -10,7 +10,7 @@
 
 use crate::error::{Error, Result};
 use crate::field::MetricParams;
-use crate::render::fabric::{FabricParams, Noise};
+use crate::render::fabric::FabricParams;
 use crate::render::glyphs::{GlyphParams, Placement};
 use crate::render::mosaic::MosaicParams;
 use crate::render::texture::{Ink, TextureKind, TextureParams};
@@ -406,9 +406,6 @@ impl Preset {
         p.cross_weight = l.cross_weight.unwrap_or(p.cross_weight).clamp(0.0, 1.0);
         p.thickness = l.thickness.unwrap_or(p.thickness).clamp(0.01, 2.0);
         p.contrast = l.contrast.unwrap_or(p.contrast).clamp(0.0, 1.0);
-        if p.noise == Noise::White {
-            p.cross_weight = l.cross_weight.unwrap_or(0.0).clamp(0.0, 1.0);
-        }
     }
 }
 
