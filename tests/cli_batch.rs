@@ -21,6 +21,12 @@ fn folder(root: &Path) -> PathBuf {
     input
 }
 
+/// Runs `anisopaint batch ARGS`, checks its exit code and returns its standard output.
+fn batch(args: &[&std::ffi::OsStr], code: i32) -> String {
+    let run = bin().arg("batch").args(args).assert().code(code);
+    String::from_utf8_lossy(&run.get_output().stdout).to_string()
+}
+
 fn pngs(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();
     for entry in std::fs::read_dir(dir).unwrap() {
@@ -40,14 +46,15 @@ fn good_files_painted_bad_ones_listed_and_resumed() {
     let dir = tempfile::tempdir().unwrap();
     let input = folder(dir.path());
     let out = dir.path().join("out");
-    let run = bin()
-        .arg("batch")
-        .arg(&input)
-        .args(["-s", "mosaic", "--recursive", "-o"])
-        .arg(&out)
-        .assert()
-        .code(1);
-    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    let all = [
+        input.as_os_str(),
+        "-s".as_ref(),
+        "mosaic".as_ref(),
+        "--recursive".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ];
+    let stdout = batch(&all, 1);
     assert!(stdout.contains("2 painted"), "{stdout}");
     assert!(
         stdout.contains("1 failed") && stdout.contains("broken.jpg"),
@@ -59,32 +66,28 @@ fn good_files_painted_bad_ones_listed_and_resumed() {
     );
     // No partial files anywhere.
     assert!(pngs(&out).iter().all(|p| image::open(p).is_ok()));
-    let before = std::fs::metadata(out.join("cat.mosaic.png"))
-        .unwrap()
-        .modified()
-        .unwrap();
-    let run = bin()
-        .arg("batch")
-        .arg(&input)
-        .args(["-s", "mosaic", "--recursive", "-o"])
-        .arg(&out)
-        .assert()
-        .code(1);
-    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    let modified = || {
+        std::fs::metadata(out.join("cat.mosaic.png"))
+            .unwrap()
+            .modified()
+            .unwrap()
+    };
+    let before = modified();
+    let stdout = batch(&all, 1);
     assert!(stdout.contains("0 painted, 2 skipped"), "{stdout}");
-    let after = std::fs::metadata(out.join("cat.mosaic.png"))
-        .unwrap()
-        .modified()
-        .unwrap();
-    assert_eq!(before, after);
-    let run = bin()
-        .arg("batch")
-        .arg(input.join("cat.png"))
-        .args(["-s", "mosaic", "--force", "-o"])
-        .arg(&out)
-        .assert()
-        .success();
-    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    assert_eq!(before, modified());
+    let cat = input.join("cat.png");
+    let stdout = batch(
+        &[
+            cat.as_os_str(),
+            "-s".as_ref(),
+            "mosaic".as_ref(),
+            "--force".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ],
+        0,
+    );
     assert!(stdout.contains("1 painted"), "{stdout}");
 }
 

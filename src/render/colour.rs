@@ -178,18 +178,19 @@ const SUM_BLOCKS: usize = 16;
 /// brick) over the anisotropy `1 − b/a` of each site's ellipse, in linear light.
 #[must_use]
 pub fn anisotropy_colours(metrics: &[Tensor]) -> Vec<Linear> {
-    metrics
-        .iter()
-        .map(|m| {
-            let e = m.eigen();
-            let a = if e.l1 > 0.0 {
-                (1.0 - e.l2.abs() / e.l1.abs()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            ramp(a as f32)
-        })
-        .collect()
+    metrics.iter().map(anisotropy_colour).collect()
+}
+
+/// The ramp's colour for one ellipse: its anisotropy `1 − b/a` (0 for a degenerate tensor).
+#[must_use]
+pub fn anisotropy_colour(m: &Tensor) -> Linear {
+    let e = m.eigen();
+    let a = if e.l1.abs() > 0.0 {
+        (1.0 - e.l2.abs() / e.l1.abs()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ramp(a as f32)
 }
 
 /// The ramp of [`anisotropy_colours`] at `t ∈ [0, 1]`.

@@ -12,7 +12,7 @@
 //! the band buffers are then added in band order, so the result does not depend on threads.
 //! Values are `f32`; the noise and the first pass are kept as bytes to hold memory down.
 
-use super::colour::{linear_of, ramp, Linear};
+use super::colour::{anisotropy_colour, linear_of, Linear};
 use super::look::Scene;
 use crate::field::TensorField;
 use glam::DVec2;
@@ -100,8 +100,7 @@ fn base_colour(scene: &Scene, photo: Option<&image::RgbImage>, p: DVec2) -> Line
             linear_of(img.get_pixel(x, y).0)
         }
         None => {
-            let e = scene.field.sample(p).eigen();
-            let k = ramp((1.0 - e.l2.abs() / e.l1.abs().max(1e-12)) as f32);
+            let k = anisotropy_colour(&scene.field.sample(p));
             super::colour::mix([1.0; 3], k, 0.6)
         }
     }

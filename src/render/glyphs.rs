@@ -3,7 +3,7 @@
 //! packs them densely without overlaps; a regular grid or random positions, with the same
 //! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
 
-use super::colour::{linear_of, ramp, to_srgb, Linear};
+use super::colour::{anisotropy_colour, linear_of, to_srgb, Linear};
 use super::look::Scene;
 use crate::field::Tensor;
 use crate::sampling::rng::Rng;
@@ -139,10 +139,7 @@ fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
     let cells = &scene.cells;
     let colour_of = |i: usize, m: &Tensor| match params.colour {
         GlyphColour::Cell => scene.colours[i],
-        GlyphColour::Anisotropy => {
-            let e = m.eigen();
-            ramp((1.0 - e.l2.abs() / e.l1.abs().max(1e-12)) as f32)
-        }
+        GlyphColour::Anisotropy => anisotropy_colour(m),
     };
     let n = cells.positions().len();
     let positions: Vec<DVec2> = match params.placement {
@@ -191,10 +188,7 @@ fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
                     let y = (p.y as u32).min(img.height() - 1);
                     linear_of(img.get_pixel(x, y).0)
                 }
-                _ => {
-                    let e = m.eigen();
-                    ramp((1.0 - e.l2.abs() / e.l1.abs().max(1e-12)) as f32)
-                }
+                _ => anisotropy_colour(&m),
             };
             (p, m, c)
         })

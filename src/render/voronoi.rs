@@ -230,27 +230,14 @@ impl<'a> VoronoiCells<'a> {
     #[inline]
     #[must_use]
     pub fn owner_in_triangle(&self, t: usize, p: DVec2) -> Owner {
-        let mut best = (NONE, f64::INFINITY);
-        let mut second = (NONE, f64::INFINITY);
-        for &c in &self.candidates[t] {
-            if c == NONE {
-                continue;
-            }
-            let d = self.quads[c as usize].delta_squared(p);
-            // A site listed twice (a neighbour's opposite corner can repeat) gives the same
-            // distance: `<` keeps the first, and `c != best.0` keeps it out of second place.
-            if d < best.1 {
-                second = best;
-                best = (c, d);
-            } else if d < second.1 && c != best.0 {
-                second = (c, d);
-            }
-        }
+        let candidates = self.candidates[t].iter().filter(|&&c| c != NONE);
+        let ((site, d1), (second, d2)) =
+            nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p))));
         Owner {
-            site: best.0,
-            second: second.0,
-            delta: best.1.sqrt() as f32,
-            delta2: second.1.sqrt() as f32,
+            site,
+            second,
+            delta: d1.sqrt() as f32,
+            delta2: d2.sqrt() as f32,
             triangle: t as u32,
             border_px: f32::INFINITY,
         }
@@ -286,22 +273,15 @@ impl<'a> VoronoiCells<'a> {
     /// The owner of `p` by brute force over every site (the reference the tests use).
     #[must_use]
     pub fn owner_brute_force(&self, p: DVec2) -> Owner {
-        let mut best = (NONE, f64::INFINITY);
-        let mut second = (NONE, f64::INFINITY);
-        for i in 0..self.positions.len() as u32 {
-            let d = self.delta(i, p);
-            if d < best.1 {
-                second = best;
-                best = (i, d);
-            } else if d < second.1 {
-                second = (i, d);
-            }
-        }
+        // δ from the inverse metrics, not the packed quadratics the search uses, so the
+        // reference stays independent of them.
+        let sites = 0..self.positions.len() as u32;
+        let ((site, d1), (second, d2)) = nearest_two(sites.map(|i| (i, self.delta(i, p))));
         Owner {
-            site: best.0,
-            second: second.0,
-            delta: best.1 as f32,
-            delta2: second.1 as f32,
+            site,
+            second,
+            delta: d1 as f32,
+            delta2: d2 as f32,
             triangle: NONE,
             border_px: f32::INFINITY,
         }
@@ -428,6 +408,24 @@ impl<'a> VoronoiCells<'a> {
             }
         }
     }
+}
+
+/// The nearest and second-nearest of `(site, distance)` pairs (`NONE` and infinity where
+/// there are fewer). A site listed twice (a neighbour's opposite corner can repeat) has the
+/// same distance both times: `<` keeps the first, and it never takes second place beside
+/// itself.
+fn nearest_two(sites: impl Iterator<Item = (u32, f64)>) -> ((u32, f64), (u32, f64)) {
+    let mut best = (NONE, f64::INFINITY);
+    let mut second = (NONE, f64::INFINITY);
+    for (c, d) in sites {
+        if d < best.1 {
+            second = best;
+            best = (c, d);
+        } else if d < second.1 && c != best.0 {
+            second = (c, d);
+        }
+    }
+    (best, second)
 }
 
 /// Rows of output pixels per parallel band.
