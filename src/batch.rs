@@ -219,6 +219,17 @@ where
         .collect()
 }
 
+/// Creates `out_dir` if needed and checks that files can be written in it (a probe file is
+/// created and removed), so a batch whose output cannot be written stops before painting.
+pub fn check_output_dir(out_dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    tempfile::Builder::new()
+        .prefix(".anisopaint-probe-")
+        .tempfile_in(out_dir)
+        .map(drop)
+        .map_err(|e| Error::io(out_dir, e))
+}
+
 /// Parses `i/n`.
 pub fn parse_shard(text: &str) -> Result<(usize, usize)> {
     let bad = || Error::param("--shard", format!("{text}: expected i/n, e.g. 2/8"));

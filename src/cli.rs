@@ -719,7 +719,7 @@ fn run_batch(args: &BatchArgs) -> ExitCode {
 
 /// Plans and runs a batch; returns how many items failed.
 fn batch(args: &BatchArgs) -> Result<usize> {
-    use crate::batch::{parse_shard, plan, run, Outcome};
+    use crate::batch::{check_output_dir, parse_shard, plan, run, Outcome};
     let mut preset = crate::style::load(&args.style)?;
     crate::style::apply_sets(&mut preset, &args.sets)?;
     let options = FieldOptions {
@@ -742,6 +742,7 @@ fn batch(args: &BatchArgs) -> Result<usize> {
         &preset.name,
         shard,
     )?;
+    check_output_dir(&args.out)?;
     let total = items.len();
     let done_count = std::sync::atomic::AtomicUsize::new(0);
     let outcomes = run(

@@ -22,6 +22,12 @@ pub const MAX_SIDE: u32 = 1 << 16;
 /// applies its EXIF orientation. The format is read from the file's content, not its name.
 pub fn read_photo(path: &Path) -> Result<DynamicImage> {
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    if file.metadata().map_err(|e| Error::io(path, e))?.len() == 0 {
+        return Err(Error::Decode {
+            path: path.into(),
+            reason: "empty file (0 bytes)".into(),
+        });
+    }
     let decode_err = |e: image::ImageError| match e {
         image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
             Error::Decode {

@@ -3,6 +3,8 @@
 //! shards partition the work, and a batch killed midway completes on a rerun with no damaged
 //! outputs.
 
+mod common;
+
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
@@ -21,6 +23,32 @@ fn folder(root: &Path) -> PathBuf {
     input
 }
 
+/// Adds every other kind of bad file to `input`; returns (file name, expected cause).
+fn bad_files(input: &Path) -> Vec<(&'static str, &'static str)> {
+    std::fs::write(input.join("empty.png"), b"").unwrap();
+    std::fs::write(input.join("notes.jpg"), b"shopping list: eggs\n").unwrap();
+    std::fs::write(
+        input.join("sub/bomb.png"),
+        common::png_header_only(60_000, 60_000),
+    )
+    .unwrap();
+    let mut bad = vec![
+        ("broken.jpg", "cannot decode"),
+        ("empty.png", "empty file"),
+        ("notes.jpg", "not a PNG, JPEG, TIFF or WebP"),
+        ("bomb.png", "too large"),
+    ];
+    let locked = input.join("locked.png");
+    std::fs::copy("samples/chelsea.png", &locked).unwrap();
+    if common::make_unreadable(&locked) {
+        bad.push(("locked.png", "ermission denied"));
+    } else {
+        // As root the permission is not enforced: the file is simply painted.
+        std::fs::remove_file(&locked).unwrap();
+    }
+    bad
+}
+
 /// Runs `anisopaint batch ARGS`, checks its exit code and returns its standard output.
 fn batch(args: &[&std::ffi::OsStr], code: i32) -> String {
     let run = bin().arg("batch").args(args).assert().code(code);
@@ -28,23 +56,14 @@ fn batch(args: &[&std::ffi::OsStr], code: i32) -> String {
 }
 
 fn pngs(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let p = entry.unwrap().path();
-        if p.is_dir() {
-            out.extend(pngs(&p));
-        } else {
-            out.push(p);
-        }
-    }
-    out.sort();
-    out
+    common::files_under(dir)
 }
 
 #[test]
 fn good_files_painted_bad_ones_listed_and_resumed() {
     let dir = tempfile::tempdir().unwrap();
     let input = folder(dir.path());
+    let bad = bad_files(&input);
     let out = dir.path().join("out");
     let all = [
         input.as_os_str(),
@@ -57,9 +76,16 @@ fn good_files_painted_bad_ones_listed_and_resumed() {
     let stdout = batch(&all, 1);
     assert!(stdout.contains("2 painted"), "{stdout}");
     assert!(
-        stdout.contains("1 failed") && stdout.contains("broken.jpg"),
+        stdout.contains(&format!("{} failed", bad.len())),
         "{stdout}"
     );
+    for (name, cause) in &bad {
+        let line = stdout
+            .lines()
+            .find(|l| l.contains("failed:") && l.contains(name))
+            .unwrap_or_else(|| panic!("{name} not listed: {stdout}"));
+        assert!(line.contains(cause), "{name}: {line}");
+    }
     assert_eq!(
         pngs(&out),
         vec![out.join("cat.mosaic.png"), out.join("sub/cup.mosaic.png")]
@@ -89,6 +115,27 @@ fn good_files_painted_bad_ones_listed_and_resumed() {
         0,
     );
     assert!(stdout.contains("1 painted"), "{stdout}");
+}
+
+#[test]
+fn unwritable_output_folder_stops_before_painting() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = folder(dir.path());
+    let blocker = dir.path().join("not-a-folder");
+    std::fs::write(&blocker, b"x").unwrap();
+    for out in [blocker.clone(), blocker.join("out")] {
+        let run = bin()
+            .arg("batch")
+            .arg(&input)
+            .args(["-s", "mosaic", "-o"])
+            .arg(&out)
+            .assert()
+            .code(2);
+        let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("not-a-folder"), "{stderr}");
+    }
+    assert_eq!(std::fs::read(&blocker).unwrap(), b"x");
 }
 
 #[test]

@@ -209,3 +209,32 @@ fn completions_for_the_shells() {
     }
     bin().args(["completions", "cmd.exe"]).assert().code(2);
 }
+
+#[test]
+fn every_preset_is_byte_identical_with_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    for style in [
+        "mosaic",
+        "pen-hatch",
+        "crosshatch",
+        "strokes",
+        "pointillist",
+        "glyphs",
+        "fabric",
+        "lic",
+    ] {
+        let mut outputs = Vec::new();
+        for threads in ["1", "2"] {
+            let out = dir.path().join(format!("{style}-{threads}.png"));
+            bin()
+                .env("RAYON_NUM_THREADS", threads)
+                .args(["paint", "samples/chelsea.png", "-s", style, "--seed", "9"])
+                .arg("-o")
+                .arg(&out)
+                .assert()
+                .success();
+            outputs.push(std::fs::read(&out).unwrap());
+        }
+        assert!(outputs[0] == outputs[1], "{style}: 1 and 2 threads differ");
+    }
+}

@@ -25,6 +25,7 @@ pub use tensor::{Eigen, Tensor};
 use crate::error::{Error, Result};
 use image::DynamicImage;
 use std::path::{Path, PathBuf};
+use structure::{linear_to_srgb, srgb_to_linear};
 
 /// What the user named as input.
 #[derive(Clone, Debug, PartialEq)]
@@ -117,7 +118,7 @@ pub fn load_field(input: &Input, options: &FieldOptions) -> Result<LoadedField> 
             Ok(LoadedField {
                 metric,
                 raw,
-                photo: Some(photo),
+                photo: Some(flatten_on_paper(photo)),
             })
         }
         Input::Npy(path) => {
@@ -151,6 +152,34 @@ pub fn load_field(input: &Input, options: &FieldOptions) -> Result<LoadedField> 
                 raw,
                 photo: None,
             })
+        }
+    }
+}
+
+/// The photo as the renderers read it: 8-bit RGB or grey. Transparency is composited over
+/// white paper (as the structure tensor sees it, see [`structure::linear_analysis_image`]),
+/// so a transparent background paints as paper, not as whatever colour hides under alpha 0;
+/// 16-bit and float photos are rounded to 8 bits (the metric was already computed from the
+/// full-depth photo).
+#[must_use]
+pub fn flatten_on_paper(photo: DynamicImage) -> DynamicImage {
+    match photo {
+        DynamicImage::ImageRgb8(_) | DynamicImage::ImageLuma8(_) => photo,
+        DynamicImage::ImageLuma16(_) => DynamicImage::ImageLuma8(photo.to_luma8()),
+        other if !other.color().has_alpha() => DynamicImage::ImageRgb8(other.to_rgb8()),
+        other => {
+            let rgba = other.to_rgba32f();
+            let over_white = |v: f32, a: f32| {
+                // Composited in linear light, like the analysis image.
+                let lin = srgb_to_linear(v.clamp(0.0, 1.0)) * a + (1.0 - a);
+                (linear_to_srgb(lin) * 255.0).round() as u8
+            };
+            let rgb = image::RgbImage::from_fn(rgba.width(), rgba.height(), |x, y| {
+                let [r, g, b, a] = rgba.get_pixel(x, y).0;
+                let a = a.clamp(0.0, 1.0);
+                image::Rgb([over_white(r, a), over_white(g, a), over_white(b, a)])
+            });
+            DynamicImage::ImageRgb8(rgb)
         }
     }
 }
