@@ -140,12 +140,12 @@ fn collect(
 
 /// Runs `paint` on every item over `jobs` threads, skipping existing outputs unless `force`,
 /// with at most [`MEMORY_BUDGET`] of estimated memory in use at once (an item larger than the
-/// budget runs alone). `progress` is called after each item with its index and outcome.
-/// Returns the outcomes in item order.
+/// budget runs alone). `progress` is called after each item with its index, its outcome and
+/// how long it took. Returns the outcomes in item order.
 pub fn run<P, F>(items: &[Item], jobs: usize, force: bool, paint: P, progress: F) -> Vec<Outcome>
 where
     P: Fn(&Item) -> Result<()> + Sync,
-    F: Fn(usize, &Outcome) + Sync,
+    F: Fn(usize, &Outcome, std::time::Duration) + Sync,
 {
     let weights: Vec<u64> = items
         .iter()
@@ -185,6 +185,7 @@ where
                     (k, weight)
                 };
                 let item = &items[k];
+                let start = std::time::Instant::now();
                 let outcome = if !force && item.output.exists() {
                     Outcome::Skipped
                 } else {
@@ -202,7 +203,7 @@ where
                         Err(e) => Outcome::Failed(e.to_string()),
                     }
                 };
-                progress(k, &outcome);
+                progress(k, &outcome, start.elapsed());
                 *outcomes[k].lock().expect("outcome") = Some(outcome);
                 state.lock().expect("batch state").1 -= weight;
                 freed.notify_all();

@@ -6,7 +6,7 @@
 //! → [`sampling`] (seeding, forces, anisotropic Delaunay, population
 //! control, quality) → [`render`] (Voronoi cells, mosaics, textures, glyphs, fabric) →
 //! [`style`] (presets) → [`cli`]. [`io`] reads inputs and writes outputs atomically;
-//! [`batch`] plans and runs folder batches; [`error`] is the one error type.
+//! [`batch`] plans and runs folder batches; [`progress`] carries stage reports to the CLI's bars; [`error`] is the one error type.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -16,6 +16,7 @@ pub mod cli;
 pub mod error;
 pub mod field;
 pub mod io;
+pub mod progress;
 pub mod render;
 pub mod sampling;
 pub mod style;

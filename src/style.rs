@@ -416,26 +416,40 @@ pub fn paint(
     preset: &Preset,
     sampler: &SamplerParams,
 ) -> Result<image::RgbImage> {
+    paint_observed(input, options, preset, sampler, &crate::progress::Silent)
+}
+
+/// [`paint`], reporting every stage to `observer`.
+pub fn paint_observed(
+    input: &crate::field::Input,
+    options: &crate::field::FieldOptions,
+    preset: &Preset,
+    sampler: &SamplerParams,
+    observer: &dyn crate::progress::Observer,
+) -> Result<image::RgbImage> {
+    use crate::progress::{timed, Stage};
     use crate::render::{render, RenderSize};
     let look = preset.look()?;
-    let loaded = crate::field::load_field(input, options)?;
+    let loaded = crate::field::load_field_observed(input, options, observer)?;
     let field = &loaded.metric;
-    let s = crate::sampling::sample(field, sampler)?;
+    let s = crate::sampling::sample_observed(field, sampler, observer)?;
     let d = field.domain();
     let size = RenderSize {
         width: d.x.round().max(1.0) as usize,
         height: d.y.round().max(1.0) as usize,
         supersample: preset.supersample(),
     };
-    Ok(render(
-        &look,
-        &s.positions,
-        &s.metrics,
-        &s.mesh,
-        field,
-        loaded.photo.as_ref(),
-        size,
-    ))
+    Ok(timed(observer, Stage::Rendering, || {
+        render(
+            &look,
+            &s.positions,
+            &s.metrics,
+            &s.mesh,
+            field,
+            loaded.photo.as_ref(),
+            size,
+        )
+    }))
 }
 
 /// How a painting was made, recorded in its PNG so that it can be made again.

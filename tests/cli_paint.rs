@@ -238,3 +238,42 @@ fn every_preset_is_byte_identical_with_one_and_two_threads() {
         assert!(outputs[0] == outputs[1], "{style}: 1 and 2 threads differ");
     }
 }
+
+#[test]
+fn verbose_prints_stage_timings_and_quiet_prints_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("v.png");
+    let run = bin()
+        .args(["paint", "samples/chelsea.png", "-v", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
+    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("timings:"))
+        .unwrap_or_else(|| panic!("no timings: {stderr}"));
+    for stage in [
+        "reading",
+        "metric",
+        "seeding",
+        "relaxation",
+        "rendering",
+        "writing",
+        "total",
+    ] {
+        assert!(line.contains(stage), "{stage} missing: {line}");
+    }
+    assert!(line.contains("(100 it)"), "{line}");
+    // Not a terminal: no bars, so nothing at all without -v.
+    for quiet in [&["-q"][..], &[]] {
+        bin()
+            .args(["paint", "samples/chelsea.png", "-o"])
+            .arg(&out)
+            .args(quiet)
+            .assert()
+            .success()
+            .stderr("")
+            .stdout("");
+    }
+}

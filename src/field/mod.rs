@@ -23,6 +23,7 @@ pub use metric::{MappingParams, MetricParams};
 pub use tensor::{Eigen, Tensor};
 
 use crate::error::{Error, Result};
+use crate::progress::{timed, Observer, Silent, Stage};
 use image::DynamicImage;
 use std::path::{Path, PathBuf};
 use structure::{linear_to_srgb, srgb_to_linear};
@@ -109,12 +110,23 @@ pub const DEFAULT_ANALYTIC_SIZE: (usize, usize) = (512, 512);
 
 /// Reads or generates the input and derives its metric.
 pub fn load_field(input: &Input, options: &FieldOptions) -> Result<LoadedField> {
+    load_field_observed(input, options, &Silent)
+}
+
+/// [`load_field`], reporting reading and the metric as stages to `observer`.
+pub fn load_field_observed(
+    input: &Input,
+    options: &FieldOptions,
+    observer: &dyn Observer,
+) -> Result<LoadedField> {
     options.metric.validate()?;
     validate_mapping(&options.mapping)?;
     match input {
         Input::Photo(path) => {
-            let photo = crate::io::read_photo(path)?;
-            let (raw, metric) = photo_metric(&photo, &options.metric);
+            let photo = timed(observer, Stage::Reading, || crate::io::read_photo(path))?;
+            let (raw, metric) = timed(observer, Stage::Metric, || {
+                photo_metric(&photo, &options.metric)
+            });
             Ok(LoadedField {
                 metric,
                 raw,
@@ -122,8 +134,10 @@ pub fn load_field(input: &Input, options: &FieldOptions) -> Result<LoadedField> 
             })
         }
         Input::Npy(path) => {
-            let raw = crate::io::read_npy(path)?;
-            let metric = tensor_file_metric(path, &raw, options)?;
+            let raw = timed(observer, Stage::Reading, || crate::io::read_npy(path))?;
+            let metric = timed(observer, Stage::Metric, || {
+                tensor_file_metric(path, &raw, options)
+            })?;
             Ok(LoadedField {
                 metric,
                 raw,
@@ -141,12 +155,15 @@ pub fn load_field(input: &Input, options: &FieldOptions) -> Result<LoadedField> 
                     ),
                 ));
             }
-            let raw = a.field(w, h);
-            let metric = if a.is_metric() {
-                raw.clone()
-            } else {
-                metric::metric_from_general(&raw, &options.mapping)
-            };
+            let (raw, metric) = timed(observer, Stage::Metric, || {
+                let raw = a.field(w, h);
+                let metric = if a.is_metric() {
+                    raw.clone()
+                } else {
+                    metric::metric_from_general(&raw, &options.mapping)
+                };
+                (raw, metric)
+            });
             Ok(LoadedField {
                 metric,
                 raw,

@@ -42,6 +42,7 @@ pub use seeding::DartParams;
 
 use crate::error::{Error, Result};
 use crate::field::{Tensor, TensorField};
+use crate::progress::{Observer, Stage};
 use glam::DVec2;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
@@ -386,9 +387,19 @@ impl Particles {
 /// Runs the whole sampler on `field` (a metric). Fails before any work when the metric has
 /// unusable ellipses or needs more than `params.max_samples` samples.
 pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
+    sample_observed(full_field, params, &crate::progress::Silent)
+}
+
+/// [`sample`], reporting the seeding and each relaxation iteration to `observer`.
+pub fn sample_observed(
+    full_field: &TensorField,
+    params: &SamplerParams,
+    observer: &dyn Observer,
+) -> Result<Sampling> {
     params.validate()?;
     let start = Instant::now();
     let estimate = validate_metric(full_field, params.max_samples)?;
+    observer.begin(Stage::Seeding, None);
     let coarse = sampling_field(full_field);
     let field = &coarse;
     let mut stats = Stats {
@@ -404,6 +415,9 @@ pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampli
     stats.seeded = interior.len();
     stats.final_rho = rho;
     stats.seeding_time = start.elapsed();
+    observer.end(Stage::Seeding, stats.seeding_time, None);
+    let relaxation_start = Instant::now();
+    observer.begin(Stage::Relaxation, Some(params.iterations as u64));
 
     let nfixed = fixed.len();
     let mut all = fixed;
@@ -452,6 +466,7 @@ pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampli
         (step, drift) = relax_once(&mut particles, &edges, field, &dynamics_now);
         stats.relaxation_time += t.elapsed();
         stats.iterations = it + 1;
+        observer.advance(Stage::Relaxation, stats.iterations as u64);
         stats.last_step = step;
         if step < params.tolerance {
             break;
@@ -466,6 +481,11 @@ pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampli
         .par_iter()
         .map(|&p| full_field.sample(p))
         .collect();
+    observer.end(
+        Stage::Relaxation,
+        relaxation_start.elapsed(),
+        Some(stats.iterations as u64),
+    );
     Ok(Sampling {
         positions: particles.positions,
         metrics,

@@ -2,9 +2,13 @@
 //! the library and maps failures to exit codes (0 ok, 1 some items of a batch failed, 2 bad
 //! usage or input). Everything here is a thin layer; the work lives in the other modules.
 
+mod bars;
+
 use crate::error::{Error, Result};
 use crate::field::{self, FieldOptions, Input, TensorKind};
+use crate::progress::{timed, Stage};
 use crate::render::{field_preview, PreviewMode};
+use bars::{StageBars, Verbosity};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use image::DynamicImage;
 use std::ffi::OsString;
@@ -77,6 +81,8 @@ struct PaintArgs {
     /// Override one preset key for this run, e.g. --set metric.max_anisotropy=6 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
+    #[command(flatten)]
+    verbosity: VerbosityArgs,
 }
 
 const BATCH_EXAMPLES: &str = "\
@@ -117,9 +123,12 @@ struct BatchArgs {
     /// Override one preset key (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Print nothing but failures.
+    /// No progress bar or per-file lines: only failures and the summary.
     #[arg(short, long)]
     quiet: bool,
+    /// Print the time each file took.
+    #[arg(short, long)]
+    verbose: bool,
 }
 
 #[derive(Debug, Args)]
@@ -185,6 +194,8 @@ struct RenderArgs {
     /// Maximum number of relaxation iterations of the sampler.
     #[arg(long, default_value_t = 100)]
     iterations: usize,
+    #[command(flatten)]
+    verbosity: VerbosityArgs,
 }
 
 const SAMPLE_EXAMPLES: &str = "\
@@ -200,6 +211,27 @@ Examples:
   anisopaint field photo.jpg --out metric.npy --preview-mode orientation --preview dirs.png
   anisopaint field analytic:two-point-load --width 600 --height 400 --preview load.png
   anisopaint field stress.npy --tensor general --out metric.npy";
+
+/// How much a command prints while it works.
+#[derive(Debug, Args)]
+struct VerbosityArgs {
+    /// No progress bars (errors and failures still print).
+    #[arg(short, long)]
+    quiet: bool,
+    /// Print the time each stage took (reading, metric, seeding, relaxation, rendering,
+    /// writing).
+    #[arg(short, long)]
+    verbose: bool,
+}
+
+impl VerbosityArgs {
+    fn get(&self) -> Verbosity {
+        Verbosity {
+            quiet: self.quiet,
+            verbose: self.verbose,
+        }
+    }
+}
 
 /// Options shared by every command that reads an input.
 #[derive(Debug, Args)]
@@ -301,6 +333,8 @@ struct SampleArgs {
     /// Also measure random placement and the seed alone (0 iterations), side by side.
     #[arg(long)]
     compare: bool,
+    #[command(flatten)]
+    verbosity: VerbosityArgs,
 }
 
 /// Runs the command line with the process's arguments.
@@ -452,9 +486,11 @@ fn run_sample(args: &SampleArgs) -> Result<()> {
         delete_pressure: args.delete_pressure.unwrap_or(defaults.delete_pressure),
         ..defaults
     };
-    let loaded = field::load_field(&input, &options)?;
+    let bars = StageBars::new(args.verbosity.get());
+    let loaded = field::load_field_observed(&input, &options, &bars)?;
     let field = &loaded.metric;
-    let result = sampling::sample(field, &params)?;
+    let result = sampling::sample_observed(field, &params, &bars)?;
+    bars.print_timings();
     if let Some(out) = &args.out {
         crate::io::write_samples_csv(out, &result.positions, &result.metrics)?;
     }
@@ -548,7 +584,8 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         };
         params.seed = args.seed;
     }
-    let loaded = field::load_field(&input, &options)?;
+    let bars = StageBars::new(args.verbosity.get());
+    let loaded = field::load_field_observed(&input, &options, &bars)?;
     let field = &loaded.metric;
     let domain = field.domain();
     let scale = match (args.scale, args.out_width) {
@@ -602,7 +639,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
                 iterations: args.iterations,
                 ..SamplerParams::default()
             };
-            let s = sampling::sample(field, &params)?;
+            let s = sampling::sample_observed(field, &params, &bars)?;
             (s.positions, s.metrics, s.mesh)
         }
     };
@@ -622,16 +659,22 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         let labels = crate::render::label_map(&cells, &raster);
         crate::io::write_labels_npy(path, &labels, size.width, size.height)?;
     }
-    let img = render(
-        &look,
-        &positions,
-        &metrics,
-        &mesh,
-        field,
-        loaded.photo.as_ref(),
-        size,
-    );
-    crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))
+    let img = timed(&bars, Stage::Rendering, || {
+        render(
+            &look,
+            &positions,
+            &metrics,
+            &mesh,
+            field,
+            loaded.photo.as_ref(),
+            size,
+        )
+    });
+    timed(&bars, Stage::Writing, || {
+        crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))
+    })?;
+    bars.print_timings();
+    Ok(())
 }
 
 fn run_styles(args: &StylesArgs) -> Result<()> {
@@ -671,7 +714,8 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         None => default_output(&input, &preset.name),
     };
     check_output(&input, &out)?;
-    let img = crate::style::paint(&input, &options, &preset, &sampler)?;
+    let bars = StageBars::new(args.verbosity.get());
+    let img = crate::style::paint_observed(&input, &options, &preset, &sampler, &bars)?;
     let record = crate::style::PaintRecord {
         input: args.input.input.clone(),
         style: args.style.clone(),
@@ -679,7 +723,11 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         sets: args.sets.clone(),
         seed: sampler.seed,
     };
-    crate::style::save_painting(&out, &img, &record)
+    timed(&bars, Stage::Writing, || {
+        crate::style::save_painting(&out, &img, &record)
+    })?;
+    bars.print_timings();
+    Ok(())
 }
 
 fn run_info(args: &InfoArgs) -> Result<()> {
@@ -744,6 +792,18 @@ fn batch(args: &BatchArgs) -> Result<usize> {
     )?;
     check_output_dir(&args.out)?;
     let total = items.len();
+    let bar = if args.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(total as u64).with_style(
+            indicatif::ProgressStyle::with_template(
+                "{prefix} [{bar:32}] {pos}/{len} files, {elapsed} elapsed, ETA {eta}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        )
+    };
+    bar.set_prefix(preset.name.clone());
     let done_count = std::sync::atomic::AtomicUsize::new(0);
     let outcomes = run(
         &items,
@@ -761,19 +821,29 @@ fn batch(args: &BatchArgs) -> Result<usize> {
             };
             crate::style::save_painting(&item.output, &img, &record)
         },
-        |k, outcome| {
+        |k, outcome, took| {
             let n = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            let what = match outcome {
+            bar.inc(1);
+            let mut what = match outcome {
                 Outcome::Done => "painted".to_string(),
                 Outcome::Skipped => "exists, skipped".to_string(),
                 // The library's errors name the file already.
                 Outcome::Failed(why) => format!("FAILED: {}", one_line(why)),
             };
+            if args.verbose {
+                what.push_str(&format!(" ({:.2} s)", took.as_secs_f64()));
+            }
             if !args.quiet || matches!(outcome, Outcome::Failed(_)) {
-                eprintln!("[{n}/{total}] {}: {what}", items[k].input.display());
+                let line = format!("[{n}/{total}] {}: {what}", items[k].input.display());
+                if bar.is_hidden() {
+                    eprintln!("{line}");
+                } else {
+                    bar.println(line);
+                }
             }
         },
     );
+    bar.finish_and_clear();
     let count = |f: fn(&Outcome) -> bool| outcomes.iter().filter(|o| f(o)).count();
     let (done, skipped) = (
         count(|o| *o == Outcome::Done),
