@@ -416,20 +416,42 @@ pub fn paint(
     preset: &Preset,
     sampler: &SamplerParams,
 ) -> Result<image::RgbImage> {
-    paint_observed(input, options, preset, sampler, &crate::progress::Silent)
+    let painting = paint_observed(
+        input,
+        options,
+        preset,
+        sampler,
+        false,
+        &crate::progress::Silent,
+    )?;
+    Ok(painting.image)
 }
 
-/// [`paint`], reporting every stage to `observer`.
+/// A painting, and its vector form when asked for.
+#[derive(Clone, Debug)]
+pub struct Painting {
+    /// The raster picture.
+    pub image: image::RgbImage,
+    /// The SVG document of the same picture.
+    pub svg: Option<String>,
+}
+
+/// [`paint`], with the SVG form when `svg` is set (an error before any work for looks
+/// without one), reporting every stage to `observer`.
 pub fn paint_observed(
     input: &crate::field::Input,
     options: &crate::field::FieldOptions,
     preset: &Preset,
     sampler: &SamplerParams,
+    svg: bool,
     observer: &dyn crate::progress::Observer,
-) -> Result<image::RgbImage> {
+) -> Result<Painting> {
     use crate::progress::{timed, Stage};
-    use crate::render::{render, RenderSize};
+    use crate::render::{render_with_svg, RenderSize};
     let look = preset.look()?;
+    if svg {
+        look.check_vector_form()?;
+    }
     let loaded = crate::field::load_field_observed(input, options, observer)?;
     let field = &loaded.metric;
     let s = crate::sampling::sample_observed(field, sampler, observer)?;
@@ -439,8 +461,8 @@ pub fn paint_observed(
         height: d.y.round().max(1.0) as usize,
         supersample: preset.supersample(),
     };
-    Ok(timed(observer, Stage::Rendering, || {
-        render(
+    let (image, svg) = timed(observer, Stage::Rendering, || {
+        render_with_svg(
             &look,
             &s.positions,
             &s.metrics,
@@ -448,8 +470,10 @@ pub fn paint_observed(
             field,
             loaded.photo.as_ref(),
             size,
+            svg,
         )
-    }))
+    })?;
+    Ok(Painting { image, svg })
 }
 
 /// How a painting was made, recorded in its PNG so that it can be made again.

@@ -63,7 +63,8 @@ Examples:
   anisopaint paint photo.jpg -s pen-hatch -o ink.png
   anisopaint paint photo.jpg -s crosshatch --set look.lines_per_cell=6 --seed 3
   anisopaint paint photo.jpg -s my-style.toml
-  anisopaint paint analytic:two-point-load -s fabric";
+  anisopaint paint analytic:two-point-load -s fabric
+  anisopaint paint photo.jpg -s glyphs --svg glyphs.svg     # also a vector version";
 
 #[derive(Debug, Args)]
 struct PaintArgs {
@@ -81,6 +82,10 @@ struct PaintArgs {
     /// Override one preset key for this run, e.g. --set metric.max_anisotropy=6 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
+    /// Also write the painting as SVG: glyphs as ellipses, cells as traced polygons in their
+    /// colours (not for fabric and LIC).
+    #[arg(long, value_name = "OUT.svg")]
+    svg: Option<PathBuf>,
     #[command(flatten)]
     verbosity: VerbosityArgs,
 }
@@ -172,6 +177,10 @@ struct RenderArgs {
     /// Also write the label map: int32 .npy (H, W), the samples.csv row owning each pixel.
     #[arg(long)]
     labels: Option<PathBuf>,
+    /// Also write the picture as SVG: glyphs as ellipses, cells as traced polygons in their
+    /// colours (not for fabric and LIC).
+    #[arg(long, value_name = "OUT.svg")]
+    svg: Option<PathBuf>,
     /// Output size as a multiple of the input's.
     #[arg(long, conflicts_with = "out_width")]
     scale: Option<f64>,
@@ -551,10 +560,13 @@ fn run_sample(args: &SampleArgs) -> Result<()> {
 }
 
 fn run_render(args: &RenderArgs) -> Result<()> {
-    use crate::render::{render, Look, RenderSize};
+    use crate::render::{render_with_svg, Look, RenderSize};
     use crate::sampling::{self, AnisotropicDelaunay, SamplerParams};
     let (input, options) = args.input.plan()?;
-    for out in std::iter::once(&args.out).chain(&args.labels) {
+    for out in std::iter::once(&args.out)
+        .chain(&args.labels)
+        .chain(&args.svg)
+    {
         check_output(&input, out)?;
     }
     if !(1..=4).contains(&args.supersample) {
@@ -562,6 +574,9 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     }
     let mut look = Look::named(&args.look)
         .ok_or_else(|| Error::param("--look", format!("unknown look {}", args.look)))?;
+    if args.svg.is_some() {
+        look.check_vector_form()?;
+    }
     match (&mut look, &args.texture) {
         (Look::Texture(params), Some(path)) => {
             let tile = crate::io::read_photo(path)?.to_luma8();
@@ -659,8 +674,8 @@ fn run_render(args: &RenderArgs) -> Result<()> {
         let labels = crate::render::label_map(&cells, &raster);
         crate::io::write_labels_npy(path, &labels, size.width, size.height)?;
     }
-    let img = timed(&bars, Stage::Rendering, || {
-        render(
+    let (img, svg) = timed(&bars, Stage::Rendering, || {
+        render_with_svg(
             &look,
             &positions,
             &metrics,
@@ -668,10 +683,15 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             field,
             loaded.photo.as_ref(),
             size,
+            args.svg.is_some(),
         )
-    });
-    timed(&bars, Stage::Writing, || {
-        crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))
+    })?;
+    timed(&bars, Stage::Writing, || -> Result<()> {
+        crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))?;
+        if let (Some(path), Some(svg)) = (&args.svg, &svg) {
+            crate::io::write_text(path, svg)?;
+        }
+        Ok(())
     })?;
     bars.print_timings();
     Ok(())
@@ -714,8 +734,18 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         None => default_output(&input, &preset.name),
     };
     check_output(&input, &out)?;
+    if let Some(svg) = &args.svg {
+        check_output(&input, svg)?;
+    }
     let bars = StageBars::new(args.verbosity.get());
-    let img = crate::style::paint_observed(&input, &options, &preset, &sampler, &bars)?;
+    let painting = crate::style::paint_observed(
+        &input,
+        &options,
+        &preset,
+        &sampler,
+        args.svg.is_some(),
+        &bars,
+    )?;
     let record = crate::style::PaintRecord {
         input: args.input.input.clone(),
         style: args.style.clone(),
@@ -723,8 +753,12 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         sets: args.sets.clone(),
         seed: sampler.seed,
     };
-    timed(&bars, Stage::Writing, || {
-        crate::style::save_painting(&out, &img, &record)
+    timed(&bars, Stage::Writing, || -> Result<()> {
+        crate::style::save_painting(&out, &painting.image, &record)?;
+        if let (Some(path), Some(svg)) = (&args.svg, &painting.svg) {
+            crate::io::write_text(path, svg)?;
+        }
+        Ok(())
     })?;
     bars.print_timings();
     Ok(())

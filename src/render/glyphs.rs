@@ -135,7 +135,7 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
 }
 
 /// Glyph centres, metrics and colours for the placement.
-fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
+pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
     let cells = &scene.cells;
     let colour_of = |i: usize, m: &Tensor| match params.colour {
         GlyphColour::Cell => scene.colours[i],

@@ -189,6 +189,18 @@ impl Look {
         "lic",
     ];
 
+    /// Fails for the looks that have no SVG form (fabric and LIC).
+    pub fn check_vector_form(&self) -> crate::Result<()> {
+        match self {
+            Look::Fabric(_) => Err(crate::Error::param(
+                "--svg",
+                "fabric and LIC looks have no vector form; SVG is written for the mosaic, \
+                 textured and glyph looks",
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// Renders `scene`.
     #[must_use]
     pub fn render(&self, scene: &Scene) -> RgbImage {

@@ -1,7 +1,8 @@
 //! Pictures: the generalized Voronoi cells of the samples ([`voronoi`], paper section 6) and
 //! the looks drawn from them ([`look`]): mosaics ([`mosaic`]), textured cells ([`texture`]),
 //! glyphs ([`glyphs`], paper 7.1), fabric and LIC ([`fabric`], paper 7.3), in linear-light
-//! colour ([`colour`]); plus previews of fields and samplings ([`preview`]). Everything runs
+//! colour ([`colour`]); vector output ([`svg`]) of cells traced from the label map
+//! ([`trace`]) and of glyphs; plus previews of fields and samplings ([`preview`]). Everything runs
 //! on the CPU with rayon, at any output size: the cells are resolution independent.
 
 pub mod colour;
@@ -10,7 +11,9 @@ pub mod glyphs;
 pub mod look;
 pub mod mosaic;
 pub mod preview;
+pub mod svg;
 pub mod texture;
+pub mod trace;
 pub mod voronoi;
 
 pub use look::{Look, Scene};
@@ -55,4 +58,38 @@ pub fn render(
         size.supersample,
     );
     look.render(&scene)
+}
+
+/// [`render`], and the SVG form of the same picture when `svg` is set (see [`svg::svg`]).
+/// Fails before any work for a look without a vector form.
+#[allow(clippy::too_many_arguments)] // `render`'s arguments and the one switch
+pub fn render_with_svg(
+    look: &Look,
+    positions: &[DVec2],
+    metrics: &[Tensor],
+    mesh: &AnisotropicDelaunay,
+    field: &TensorField,
+    photo: Option<&DynamicImage>,
+    size: RenderSize,
+    svg: bool,
+) -> crate::Result<(RgbImage, Option<String>)> {
+    if svg {
+        look.check_vector_form()?;
+    }
+    let cells = VoronoiCells::new(positions, metrics, mesh);
+    let scene = Scene::new(
+        cells,
+        field,
+        photo,
+        size.width,
+        size.height,
+        size.supersample,
+    );
+    let image = look.render(&scene);
+    let svg = if svg {
+        Some(svg::svg(look, &scene)?)
+    } else {
+        None
+    };
+    Ok((image, svg))
 }

@@ -1,0 +1,255 @@
+//! Vector output (SVG) of a look. Glyph looks become one `<ellipse>` (or `<rect>`, or
+//! polygon for superquadrics) per glyph with the same axes, angle and colour as the raster
+//! picture. Cell looks become the generalized Voronoi cells (paper section 6) as polygons
+//! traced from the label map at the output size and simplified ([`super::trace`]), filled
+//! with the cell colour: the mean photo colour for the mosaic, the cell's mean tone of ink on
+//! paper for the textured looks; the mosaic's leading is one stroked path of all borders.
+//! Fabric and LIC are images of noise and have no vector form.
+//!
+//! Coordinates are output pixels with one decimal; colours are sRGB hex.
+
+use super::colour::{lightness, linear_of, mix, site_hash, to_srgb, Linear};
+use super::glyphs::{GlyphParams, Shape};
+use super::look::{Look, Scene};
+use super::texture::{Ink, TextureParams};
+use super::trace::{rings, simplify, Borders};
+use super::voronoi::label_map;
+use crate::error::Result;
+use std::fmt::Write;
+
+/// Largest distance of a traced border from the pixel staircase it simplifies, in output
+/// pixels.
+pub const TRACE_TOLERANCE_PX: f32 = 0.7;
+
+/// The SVG document of `look` over `scene`, or an error for looks without a vector form.
+pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
+    look.check_vector_form()?;
+    let r = scene.raster;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#,
+        w = r.width,
+        h = r.height
+    );
+    let _ = writeln!(
+        out,
+        "<!-- anisopaint {}: generalized Voronoi cells / glyphs of anisotropic samples -->",
+        env!("CARGO_PKG_VERSION")
+    );
+    match look {
+        Look::Mosaic(p) => {
+            let colours: Vec<Linear> = (0..scene.colours.len())
+                .map(|i| {
+                    let c = scene.colours[i];
+                    if p.jitter > 0.0 {
+                        let k = 1.0 + p.jitter * (2.0 * site_hash(i as u32, 7) - 1.0);
+                        c.map(|v| (v * k).clamp(0.0, 1.0))
+                    } else {
+                        c
+                    }
+                })
+                .collect();
+            let border = (p.border_width > 0.0).then_some((p.border_colour, p.border_width));
+            cells(&mut out, scene, &colours, border);
+        }
+        Look::Texture(p) => {
+            let colours = tone_colours(scene, p);
+            let border = (p.border_width > 0.0).then(|| {
+                let ink = match p.ink {
+                    Ink::Fixed(rgb) => rgb,
+                    Ink::Cell(_) | Ink::Pixel(_) => [30, 30, 30],
+                };
+                (ink, p.border_width)
+            });
+            cells(&mut out, scene, &colours, border);
+        }
+        Look::Glyphs(p) => glyphs(&mut out, scene, p),
+        // Refused above.
+        Look::Fabric(_) => {}
+    }
+    out.push_str("</svg>\n");
+    Ok(out)
+}
+
+fn hex(c: Linear) -> String {
+    let [r, g, b] = c.map(to_srgb);
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// A textured cell's colour seen from afar: its ink over paper at the cell's tone.
+fn tone_colours(scene: &Scene, p: &TextureParams) -> Vec<Linear> {
+    let paper = linear_of(p.paper);
+    scene
+        .colours
+        .iter()
+        .map(|&colour| {
+            let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(p.gamma);
+            let ink = match p.ink {
+                Ink::Fixed(rgb) => linear_of(rgb),
+                Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
+            };
+            match p.kind {
+                // Strokes cover the cell in its own colour.
+                super::texture::TextureKind::Stroke => ink,
+                _ => mix(paper, ink, darkness),
+            }
+        })
+        .collect()
+}
+
+/// Writes the cells of `scene` filled with `colours`, and the borders stroked with
+/// `(colour, width)` when given.
+fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u8; 3], f32)>) {
+    let r = scene.raster;
+    let labels = label_map(&scene.cells, &r);
+    let borders = Borders::trace(&labels, r.width, r.height);
+    let simplified: Vec<Vec<[f32; 2]>> = borders
+        .chains
+        .iter()
+        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
+        .collect();
+    let rings = rings(&borders, &simplified, colours.len());
+    // Without leading, a hairline of the cell's own colour hides the seams anti-aliasing
+    // leaves between abutting polygons.
+    let seam = if border.is_none() {
+        r#" stroke-width="0.5" stroke-linejoin="round""#
+    } else {
+        ""
+    };
+    let _ = writeln!(out, r#"<g stroke="none"{seam}>"#);
+    let mut d = String::new();
+    for (cell_rings, &colour) in rings.iter().zip(colours) {
+        if cell_rings.is_empty() {
+            continue;
+        }
+        d.clear();
+        for ring in cell_rings {
+            path_data(&mut d, ring, true);
+        }
+        let c = hex(colour);
+        if border.is_none() {
+            let _ = writeln!(out, r#"<path fill="{c}" stroke="{c}" d="{d}"/>"#);
+        } else {
+            let _ = writeln!(out, r#"<path fill="{c}" d="{d}"/>"#);
+        }
+    }
+    out.push_str("</g>\n");
+    if let Some((colour, width)) = border {
+        d.clear();
+        for (chain, s) in borders.chains.iter().zip(&simplified) {
+            // Cell borders only, not the picture's edge.
+            if chain.left >= 0 && chain.right >= 0 {
+                path_data(&mut d, s, false);
+            }
+        }
+        let _ = writeln!(
+            out,
+            r#"<path fill="none" stroke="{}" stroke-width="{width}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,
+            hex(linear_of(colour))
+        );
+    }
+}
+
+/// Appends `M x y x y … [Z]` for `points`.
+fn path_data(d: &mut String, points: &[[f32; 2]], close: bool) {
+    for (k, p) in points.iter().enumerate() {
+        let _ = write!(
+            d,
+            "{}{} {}",
+            if k == 0 { "M" } else { " " },
+            num(p[0]),
+            num(p[1])
+        );
+    }
+    if close {
+        d.push('Z');
+    }
+}
+
+/// A coordinate with at most one decimal.
+fn num(v: f32) -> String {
+    let r = (v * 10.0).round() / 10.0;
+    if r == r.trunc() {
+        format!("{}", r as i64)
+    } else {
+        format!("{r:.1}")
+    }
+}
+
+/// Writes the glyphs of `scene` as vector shapes.
+fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
+    let r = scene.raster;
+    let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let bg = params.background;
+    let _ = writeln!(
+        out,
+        r#"<rect width="100%" height="100%" fill="{}"/>"#,
+        hex(linear_of(bg))
+    );
+    if params.outline_width > 0.0 {
+        let _ = writeln!(
+            out,
+            r#"<g stroke="{}" stroke-width="{}">"#,
+            hex(linear_of(params.outline)),
+            params.outline_width
+        );
+    } else {
+        out.push_str("<g>\n");
+    }
+    for (p, m, colour) in super::glyphs::placed(scene, params) {
+        let e = m.eigen();
+        let scale = f64::from(params.scale);
+        let (a, b) = (e.l1.abs() * scale, e.l2.abs() * scale);
+        if !(a > 0.0 && b > 0.0 && a.is_finite()) {
+            continue;
+        }
+        // Domain to output pixels: a uniform scale when the aspect is kept (it is, up to
+        // rounding), so the ellipse stays an ellipse with scaled axes.
+        let k = (sx * sy).sqrt();
+        let (cx, cy) = (num((p.x * sx) as f32), num((p.y * sy) as f32));
+        let (a, b) = (num((a * k) as f32), num((b * k) as f32));
+        let angle = num(e.angle.to_degrees() as f32);
+        let fill = hex(colour);
+        match params.shape {
+            Shape::Ellipse => {
+                let _ = writeln!(
+                    out,
+                    r#"<ellipse cx="{cx}" cy="{cy}" rx="{a}" ry="{b}" transform="rotate({angle} {cx} {cy})" fill="{fill}"/>"#
+                );
+            }
+            Shape::Rectangle => {
+                let _ = writeln!(
+                    out,
+                    r#"<rect x="-{a}" y="-{b}" width="{w}" height="{h}" transform="translate({cx} {cy}) rotate({angle})" fill="{fill}"/>"#,
+                    w = num(2.0 * (e.l1.abs() * scale * k) as f32),
+                    h = num(2.0 * (e.l2.abs() * scale * k) as f32),
+                );
+            }
+            Shape::Superquadric(power) => {
+                let (a, b) = (
+                    (e.l1.abs() * scale * k) as f32,
+                    (e.l2.abs() * scale * k) as f32,
+                );
+                let power = power.max(0.5);
+                let points: Vec<[f32; 2]> = (0..48)
+                    .map(|i| {
+                        let th = i as f32 / 48.0 * std::f32::consts::TAU;
+                        let (c, s) = (th.cos(), th.sin());
+                        [
+                            a * c.signum() * c.abs().powf(2.0 / power),
+                            b * s.signum() * s.abs().powf(2.0 / power),
+                        ]
+                    })
+                    .collect();
+                let mut d = String::new();
+                path_data(&mut d, &points, true);
+                let _ = writeln!(
+                    out,
+                    r#"<path transform="translate({cx} {cy}) rotate({angle})" fill="{fill}" d="{d}"/>"#
+                );
+            }
+        }
+    }
+    out.push_str("</g>\n");
+}
