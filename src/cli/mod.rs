@@ -40,6 +40,9 @@ enum Command {
     /// Paint every image of folders or a file list in one style, in parallel, resumable.
     #[command(after_help = BATCH_EXAMPLES)]
     Batch(BatchArgs),
+    /// One photo in several presets (or one preset with a key swept), as a labelled grid.
+    #[command(after_help = SHEET_EXAMPLES)]
+    ContactSheet(SheetArgs),
     /// List the built-in style presets, or print one (`styles show NAME`) to copy and edit.
     Styles(StylesArgs),
     /// Print how a PNG written by `paint` was made: preset, overridden keys, seed, version.
@@ -88,6 +91,47 @@ struct PaintArgs {
     svg: Option<PathBuf>,
     #[command(flatten)]
     verbosity: VerbosityArgs,
+}
+
+const SHEET_EXAMPLES: &str = "\
+Examples:
+  anisopaint contact-sheet samples/chelsea.png -o sheet.png                 # every built-in preset
+  anisopaint contact-sheet photo.jpg -s mosaic,pen-hatch,glyphs -o three.png
+  anisopaint contact-sheet photo.jpg -s crosshatch --vary look.lines_per_cell=3,5,8 -o lines.png
+  anisopaint contact-sheet photo.jpg -s my-style.toml --vary metric.max_anisotropy=1,3,6,10 -o a.png";
+
+#[derive(Debug, Args)]
+struct SheetArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    /// Presets to compare, comma-separated (built-in names or .toml files); every built-in
+    /// preset when not given.
+    #[arg(short, long, value_delimiter = ',', conflicts_with = "all_styles")]
+    style: Vec<String>,
+    /// Every built-in preset (the default without -s).
+    #[arg(long)]
+    all_styles: bool,
+    /// Sweep one key of one preset: KEY=V1,V2,... (one tile per value).
+    #[arg(long, value_name = "KEY=V1,V2,...")]
+    vary: Option<String>,
+    /// The sheet (PNG or JPEG).
+    #[arg(short, long)]
+    out: PathBuf,
+    /// Width of each tile in pixels.
+    #[arg(long, default_value_t = 360)]
+    tile_width: u32,
+    /// Tiles per row; 0 puts up to 4 tiles in one row, more in an about square grid.
+    #[arg(long, default_value_t = 0)]
+    columns: usize,
+    /// Seed of the sampler for every tile (overrides the presets').
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Override one key in every preset (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// No progress bar.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 const BATCH_EXAMPLES: &str = "\
@@ -371,6 +415,7 @@ where
         Command::Sample(args) => run_sample(&args),
         Command::Render(args) => run_render(&args),
         Command::Paint(args) => run_paint(&args),
+        Command::ContactSheet(args) => run_sheet(&args),
         Command::Styles(args) => run_styles(&args),
         Command::Batch(args) => return run_batch(&args),
         Command::Info(args) => run_info(&args),
@@ -762,6 +807,45 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
     })?;
     bars.print_timings();
     Ok(())
+}
+
+fn run_sheet(args: &SheetArgs) -> Result<()> {
+    use crate::style::sheet::{paint_sheet, variants, SheetOptions};
+    let (input, options) = args.input.plan()?;
+    check_output(&input, &args.out)?;
+    let styles: Vec<String> = match (&args.style[..], &args.vary) {
+        ([], Some(_)) => vec![crate::style::DEFAULT_STYLE.to_string()],
+        ([], None) => crate::style::BUILT_IN
+            .iter()
+            .map(|(name, _)| (*name).to_string())
+            .collect(),
+        (styles, _) => styles.to_vec(),
+    };
+    let variants = variants(&styles, args.vary.as_deref(), &args.sets)?;
+    let bar = if args.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(variants.len() as u64).with_style(
+            indicatif::ProgressStyle::with_template(
+                "contact sheet [{bar:32}] {pos}/{len} tiles, ETA {eta}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        )
+    };
+    let sheet = paint_sheet(
+        &input,
+        &options,
+        &variants,
+        SheetOptions {
+            tile_width: args.tile_width,
+            columns: args.columns,
+            seed: args.seed,
+        },
+        &|_| bar.inc(1),
+    )?;
+    bar.finish_and_clear();
+    crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(sheet))
 }
 
 fn run_info(args: &InfoArgs) -> Result<()> {

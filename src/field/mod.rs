@@ -124,14 +124,9 @@ pub fn load_field_observed(
     match input {
         Input::Photo(path) => {
             let photo = timed(observer, Stage::Reading, || crate::io::read_photo(path))?;
-            let (raw, metric) = timed(observer, Stage::Metric, || {
-                photo_metric(&photo, &options.metric)
-            });
-            Ok(LoadedField {
-                metric,
-                raw,
-                photo: Some(flatten_on_paper(photo)),
-            })
+            Ok(timed(observer, Stage::Metric, || {
+                photo_field(photo, &options.metric)
+            }))
         }
         Input::Npy(path) => {
             let raw = timed(observer, Stage::Reading, || crate::io::read_npy(path))?;
@@ -170,6 +165,18 @@ pub fn load_field_observed(
                 photo: None,
             })
         }
+    }
+}
+
+/// A photo already in memory turned into a metric (`params` must be valid); the photo is
+/// kept as the renderers read it ([`flatten_on_paper`]).
+#[must_use]
+pub fn photo_field(photo: DynamicImage, params: &MetricParams) -> LoadedField {
+    let (raw, metric) = photo_metric(&photo, params);
+    LoadedField {
+        metric,
+        raw,
+        photo: Some(flatten_on_paper(photo)),
     }
 }
 

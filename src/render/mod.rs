@@ -2,15 +2,18 @@
 //! the looks drawn from them ([`look`]): mosaics ([`mosaic`]), textured cells ([`texture`]),
 //! glyphs ([`glyphs`], paper 7.1), fabric and LIC ([`fabric`], paper 7.3), in linear-light
 //! colour ([`colour`]); vector output ([`svg`]) of cells traced from the label map
-//! ([`trace`]) and of glyphs; plus previews of fields and samplings ([`preview`]). Everything runs
+//! ([`trace`]) and of glyphs; contact sheets ([`sheet`]) with a small bitmap [`font`]; plus
+//! previews of fields and samplings ([`preview`]). Everything runs
 //! on the CPU with rayon, at any output size: the cells are resolution independent.
 
 pub mod colour;
 pub mod fabric;
+pub mod font;
 pub mod glyphs;
 pub mod look;
 pub mod mosaic;
 pub mod preview;
+pub mod sheet;
 pub mod svg;
 pub mod texture;
 pub mod trace;

@@ -8,6 +8,8 @@
 //! `styles/` and are compiled into the binary, so `--style mosaic` works from any folder.
 //! Lengths in `[metric]` are fractions of the image diagonal, as in [`MetricParams`].
 
+pub mod sheet;
+
 use crate::error::{Error, Result};
 use crate::field::MetricParams;
 use crate::render::fabric::FabricParams;
@@ -21,14 +23,14 @@ use std::path::{Path, PathBuf};
 
 /// The built-in presets: name and TOML text.
 pub const BUILT_IN: [(&str, &str); 8] = [
-    ("mosaic", include_str!("../styles/mosaic.toml")),
-    ("pen-hatch", include_str!("../styles/pen-hatch.toml")),
-    ("crosshatch", include_str!("../styles/crosshatch.toml")),
-    ("strokes", include_str!("../styles/strokes.toml")),
-    ("pointillist", include_str!("../styles/pointillist.toml")),
-    ("glyphs", include_str!("../styles/glyphs.toml")),
-    ("fabric", include_str!("../styles/fabric.toml")),
-    ("lic", include_str!("../styles/lic.toml")),
+    ("mosaic", include_str!("../../styles/mosaic.toml")),
+    ("pen-hatch", include_str!("../../styles/pen-hatch.toml")),
+    ("crosshatch", include_str!("../../styles/crosshatch.toml")),
+    ("strokes", include_str!("../../styles/strokes.toml")),
+    ("pointillist", include_str!("../../styles/pointillist.toml")),
+    ("glyphs", include_str!("../../styles/glyphs.toml")),
+    ("fabric", include_str!("../../styles/fabric.toml")),
+    ("lic", include_str!("../../styles/lic.toml")),
 ];
 
 /// The preset `paint` uses when none is given.
@@ -446,24 +448,37 @@ pub fn paint_observed(
     svg: bool,
     observer: &dyn crate::progress::Observer,
 ) -> Result<Painting> {
-    use crate::progress::{timed, Stage};
-    use crate::render::{render_with_svg, RenderSize};
     let look = preset.look()?;
     if svg {
         look.check_vector_form()?;
     }
     let loaded = crate::field::load_field_observed(input, options, observer)?;
+    paint_loaded(&loaded, &look, preset.supersample(), sampler, svg, observer)
+}
+
+/// Sampling and look for a field already loaded: `look` at the field's size with
+/// `supersample²` points per pixel at borders, and its SVG form when `svg` is set.
+pub fn paint_loaded(
+    loaded: &crate::field::LoadedField,
+    look: &Look,
+    supersample: usize,
+    sampler: &SamplerParams,
+    svg: bool,
+    observer: &dyn crate::progress::Observer,
+) -> Result<Painting> {
+    use crate::progress::{timed, Stage};
+    use crate::render::{render_with_svg, RenderSize};
     let field = &loaded.metric;
     let s = crate::sampling::sample_observed(field, sampler, observer)?;
     let d = field.domain();
     let size = RenderSize {
         width: d.x.round().max(1.0) as usize,
         height: d.y.round().max(1.0) as usize,
-        supersample: preset.supersample(),
+        supersample,
     };
     let (image, svg) = timed(observer, Stage::Rendering, || {
         render_with_svg(
-            &look,
+            look,
             &s.positions,
             &s.metrics,
             &s.mesh,
