@@ -24,7 +24,7 @@ fn styles_lists_and_shows_the_presets() {
             "{name} missing:\n{text}"
         );
     }
-    assert!(text.lines().count() >= 8);
+    assert!(text.lines().count() >= 9);
     let out = bin()
         .args(["styles", "show", "pen-hatch"])
         .assert()
@@ -222,6 +222,7 @@ fn every_preset_is_byte_identical_with_one_and_two_threads() {
         "glyphs",
         "fabric",
         "lic",
+        "engraving",
     ] {
         let mut outputs = Vec::new();
         for threads in ["1", "2"] {

@@ -38,7 +38,7 @@ fn mean_difference(a: &RgbImage, b: &RgbImage) -> f64 {
 fn every_preset_gets_a_tile_like_its_painting() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sheet.png");
-    let sheet_args = ["--tile-width", "160", "--seed", "4"];
+    let sheet_args = ["--tile-width", "160", "--seed", "4", "--columns", "4"];
     bin()
         .args(["contact-sheet", "samples/chelsea.png", "-o"])
         .arg(&out)
@@ -46,8 +46,8 @@ fn every_preset_gets_a_tile_like_its_painting() {
         .assert()
         .success();
     let sheet = image::open(&out).unwrap().to_rgb8();
-    // Eight presets: 3 columns, 3 rows of tiles of the photo's aspect (±1 px of rounding).
-    assert_eq!(sheet.width(), 8 + 3 * (TILE + 8));
+    // Nine presets in 4 columns: 3 rows of tiles of the photo's aspect (±1 px of rounding).
+    assert_eq!(sheet.width(), 8 + 4 * (TILE + 8));
     let tile_h = (sheet.height() - 8) / 3 - 15 - 8;
     assert_eq!((sheet.height() - 8) % 3, 0);
     assert!(tile_h.abs_diff(106) <= 1, "tile height {tile_h}");
@@ -76,9 +76,9 @@ fn every_preset_gets_a_tile_like_its_painting() {
             tile_h,
             image::imageops::FilterType::Triangle,
         );
-        let own = mean_difference(&tile(&sheet, k, 3, tile_h), &reduced);
+        let own = mean_difference(&tile(&sheet, k, 4, tile_h), &reduced);
         // Against the other presets' tiles, the difference is far larger.
-        let other = mean_difference(&tile(&sheet, (k + 1) % 8, 3, tile_h), &reduced);
+        let other = mean_difference(&tile(&sheet, (k + 1) % 9, 4, tile_h), &reduced);
         // Measured: 3.3 (lic) to 6.8 (mosaic) against 8.4 to 52 for the neighbouring tile.
         assert!(own < 10.0, "{style}: tile differs by {own:.1} levels");
         assert!(
@@ -86,9 +86,11 @@ fn every_preset_gets_a_tile_like_its_painting() {
             "{style}: {own:.1} vs another preset {other:.1}"
         );
     }
-    // The ninth place is empty.
-    let empty = tile(&sheet, 8, 3, tile_h);
-    assert!(empty.pixels().all(|p| p.0 == [244, 242, 238]));
+    // The last three places are empty.
+    for k in 9..12 {
+        let empty = tile(&sheet, k, 4, tile_h);
+        assert!(empty.pixels().all(|p| p.0 == [244, 242, 238]));
+    }
 }
 
 #[test]

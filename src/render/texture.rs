@@ -362,6 +362,25 @@ fn stroke(
     colour.map(|v| (v * shade).clamp(0.0, 1.0))
 }
 
+/// The engraving tile of `styles/textures/engraving.png`, made here so that it can be made
+/// again: three lines across the tile (the cell's short axis) that swell in the middle of the
+/// cell and thin out towards its ends, stored as a threshold map (a dark pixel inks already in
+/// light cells, a light one only in dark cells), as the image textures expect.
+#[must_use]
+pub fn engraving_tile(size: u32) -> GrayImage {
+    const LINES: f64 = 3.0;
+    GrayImage::from_fn(size, size, |x, y| {
+        let u = (f64::from(x) + 0.5) / f64::from(size);
+        let v = (f64::from(y) + 0.5) / f64::from(size);
+        // 1 on a line's centre, 0 halfway between lines.
+        let across = 1.0 - (2.0 * (v * LINES).fract() - 1.0).abs();
+        // Lines swell towards the middle of the cell along its long axis.
+        let swell = 0.7 + 0.3 * (std::f64::consts::PI * u).sin();
+        let ink = (across * swell).clamp(0.0, 1.0);
+        image::Luma([(255.0 * (1.0 - ink)).round() as u8])
+    })
+}
+
 /// Bilinear look-up of `img` (0..1 grey) at `(u, v)` in tile units, wrapping around.
 fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
     let (w, h) = (img.width() as f64, img.height() as f64);

@@ -22,7 +22,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// The built-in presets: name and TOML text.
-pub const BUILT_IN: [(&str, &str); 8] = [
+pub const BUILT_IN: [(&str, &str); 9] = [
     ("mosaic", include_str!("../../styles/mosaic.toml")),
     ("pen-hatch", include_str!("../../styles/pen-hatch.toml")),
     ("crosshatch", include_str!("../../styles/crosshatch.toml")),
@@ -31,7 +31,15 @@ pub const BUILT_IN: [(&str, &str); 8] = [
     ("glyphs", include_str!("../../styles/glyphs.toml")),
     ("fabric", include_str!("../../styles/fabric.toml")),
     ("lic", include_str!("../../styles/lic.toml")),
+    ("engraving", include_str!("../../styles/engraving.toml")),
 ];
+
+/// The built-in textures (`styles/textures/`): file name and PNG bytes. A preset's
+/// `look.texture` is looked for beside the preset file first, then here.
+pub const BUILT_IN_TEXTURES: [(&str, &[u8]); 1] = [(
+    "engraving.png",
+    include_bytes!("../../styles/textures/engraving.png"),
+)];
 
 /// The preset `paint` uses when none is given.
 pub const DEFAULT_STYLE: &str = "mosaic";
@@ -366,13 +374,43 @@ impl Preset {
             };
         }
         if let Some(tile) = &l.texture {
-            let path = match &self.dir {
-                Some(dir) if tile.is_relative() => dir.join(tile),
-                _ => tile.clone(),
-            };
-            p.kind = TextureKind::Image(crate::io::read_photo(&path)?.to_luma8());
+            p.kind = TextureKind::Image(self.texture_tile(tile)?);
         }
         Ok(())
+    }
+
+    /// The tile `look.texture` names: a file beside the preset (or an absolute path), else a
+    /// built-in texture of that name.
+    fn texture_tile(&self, tile: &Path) -> Result<image::GrayImage> {
+        let path = match &self.dir {
+            Some(dir) if tile.is_relative() => dir.join(tile),
+            _ => tile.to_path_buf(),
+        };
+        if path.exists() {
+            return Ok(crate::io::read_photo(&path)?.to_luma8());
+        }
+        let built_in = BUILT_IN_TEXTURES
+            .iter()
+            .find(|(name, _)| Path::new(name) == tile);
+        match built_in {
+            Some((name, bytes)) => Ok(image::load_from_memory(bytes)
+                .map_err(|e| Error::Decode {
+                    path: PathBuf::from(name),
+                    reason: e.to_string(),
+                })?
+                .to_luma8()),
+            None => {
+                let names: Vec<&str> = BUILT_IN_TEXTURES.iter().map(|(n, _)| *n).collect();
+                Err(Error::param(
+                    "look.texture",
+                    format!(
+                        "{}: no such file, and not a built-in texture ({})",
+                        path.display(),
+                        names.join(", ")
+                    ),
+                ))
+            }
+        }
     }
 
     fn glyphs(&self, p: &mut GlyphParams) -> Result<()> {
@@ -540,6 +578,52 @@ pub fn save_painting(out: &Path, img: &image::RgbImage, record: &PaintRecord) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn textures_come_from_beside_the_preset_or_the_built_in_ones() {
+        let dir = tempfile::tempdir().unwrap();
+        let own = dir.path().join("mine.toml");
+        std::fs::write(&own, "extends = \"engraving\"\n").unwrap();
+        let look = load(own.to_str().unwrap()).unwrap().look().unwrap();
+        let Look::Texture(p) = look else {
+            panic!("engraving is a textured look")
+        };
+        assert_eq!(
+            p.kind,
+            TextureKind::Image(crate::render::texture::engraving_tile(64))
+        );
+        // A tile beside the preset wins over the built-in one of the same name.
+        let tile = image::GrayImage::from_pixel(8, 8, image::Luma([7]));
+        tile.save(dir.path().join("engraving.png")).unwrap();
+        let Look::Texture(p) = load(own.to_str().unwrap()).unwrap().look().unwrap() else {
+            panic!("textured")
+        };
+        assert_eq!(p.kind, TextureKind::Image(tile));
+        std::fs::write(&own, "[look]\nkind = \"hatch\"\ntexture = \"nope.png\"\n").unwrap();
+        let err = load(own.to_str().unwrap())
+            .unwrap()
+            .look()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("nope.png") && err.contains("engraving.png"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn built_in_textures_are_the_ones_the_project_makes() {
+        // REGENERATE=1 rewrites the file from its generator.
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("styles/textures/engraving.png");
+        let made = crate::render::texture::engraving_tile(64);
+        if std::env::var_os("REGENERATE").is_some() {
+            made.save(&path).unwrap();
+        }
+        let committed = image::open(&path).unwrap().to_luma8();
+        assert_eq!(committed, made, "styles/textures/engraving.png is stale");
+        let (_, bytes) = BUILT_IN_TEXTURES[0];
+        assert_eq!(image::load_from_memory(bytes).unwrap().to_luma8(), made);
+    }
 
     #[test]
     fn every_built_in_preset_loads_and_builds() {
