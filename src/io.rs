@@ -353,6 +353,65 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_atomic(path, |w| w.write_all(text.as_bytes()))
 }
 
+const PARTIAL_PREFIX: &str = ".anisopaint-";
+const PARTIAL_SUFFIX: &str = ".partial";
+
+/// Name prefix of temporary files: `.anisopaint-HOST-PID-`, so that a later run can tell the
+/// ones left behind by a process of this machine that no longer runs.
+fn temp_prefix() -> String {
+    format!("{PARTIAL_PREFIX}{}-{}-", host_name(), std::process::id())
+}
+
+/// This machine's name (Linux), or `host`.
+fn host_name() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_string())
+        .ok()
+        .filter(|h| !h.is_empty())
+        .unwrap_or_else(|| "host".into())
+}
+
+/// Removes the temporary files under `dir` (and its subfolders) that a process of this
+/// machine left when it was killed: a file named by [`write_atomic`] whose process no longer
+/// runs. Files of running processes, and of other machines writing to a shared folder, are
+/// left alone. Linux only (a process is looked up in `/proc`); elsewhere nothing is removed.
+/// Returns how many files were removed.
+pub fn remove_stale_partials(dir: &Path) -> usize {
+    if !Path::new("/proc/self").exists() {
+        return 0;
+    }
+    let host = host_name();
+    let mut removed = 0;
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            removed += remove_stale_partials(&path);
+            continue;
+        }
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let Some(middle) = name
+            .strip_prefix(PARTIAL_PREFIX)
+            .and_then(|n| n.strip_suffix(PARTIAL_SUFFIX))
+        else {
+            continue;
+        };
+        // HOST-PID-RANDOM; the host name may hold dashes, the others do not.
+        let mut parts = middle.rsplitn(3, '-');
+        let (_random, pid, file_host) = (parts.next(), parts.next(), parts.next());
+        let Some(pid) = pid.and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        let alive = Path::new("/proc").join(pid.to_string()).exists();
+        if file_host == Some(host.as_str()) && !alive && std::fs::remove_file(&path).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// Runs `write` on a buffered temporary file beside `path`, then renames it to `path`. On
 /// any error the temporary file is removed and `path` is untouched.
 pub fn write_atomic(
@@ -364,7 +423,8 @@ pub fn write_atomic(
         _ => Path::new("."),
     };
     let mut builder = tempfile::Builder::new();
-    builder.prefix(".anisopaint-").suffix(".partial");
+    let prefix = temp_prefix();
+    builder.prefix(&prefix).suffix(PARTIAL_SUFFIX);
     #[cfg(unix)]
     {
         // Ordinary file permissions (the umask applies), not tempfile's private 0600.

@@ -1,7 +1,8 @@
 //! `anisopaint batch` through the real binary: good files painted, bad ones listed with their
 //! cause and exit 1, folder structure kept, resumed runs skip what exists, `--force` redoes,
-//! shards partition the work, and a batch killed midway completes on a rerun with no damaged
-//! outputs.
+//! shards partition the work, a batch killed midway completes on a rerun with no damaged
+//! outputs and without the temporary files the killed run left, and an output folder that
+//! cannot be written stops the batch before any painting.
 
 mod common;
 
@@ -211,4 +212,48 @@ fn a_killed_batch_completes_on_rerun() {
         .collect();
     assert_eq!(done.len(), 6);
     assert!(done.iter().all(|p| image::open(p).is_ok()));
+    if Path::new("/proc/self").exists() {
+        // The rerun removed what the killed run left half-written.
+        assert_eq!(pngs(&out), done, "only whole pictures remain");
+    }
+}
+
+#[test]
+fn temporary_files_of_killed_runs_are_removed_others_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::copy("samples/chelsea.png", input.join("cat.png")).unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(out.join("sub")).unwrap();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_string())
+        .unwrap_or_else(|_| "host".into());
+    // A process id that runs no process now.
+    let dead = (100_000u32..)
+        .find(|pid| !Path::new(&format!("/proc/{pid}")).exists())
+        .unwrap();
+    let alive = std::process::id();
+    let stale = out.join(format!("sub/.anisopaint-{host}-{dead}-abc123.partial"));
+    let running = out.join(format!(".anisopaint-{host}-{alive}-def456.partial"));
+    let elsewhere = out.join(format!(".anisopaint-other-machine-{dead}-ghi789.partial"));
+    for p in [&stale, &running, &elsewhere] {
+        std::fs::write(p, b"half a picture").unwrap();
+    }
+    let run = bin()
+        .arg("batch")
+        .arg(&input)
+        .args(["-s", "mosaic", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
+    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    if Path::new("/proc/self").exists() {
+        assert!(!stale.exists(), "a dead process's file is removed");
+        assert!(stderr.contains("removed 1 temporary file"), "{stderr}");
+    }
+    assert!(
+        running.exists() && elsewhere.exists(),
+        "others' files are kept"
+    );
 }

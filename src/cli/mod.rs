@@ -44,15 +44,34 @@ enum Command {
     #[command(after_help = SHEET_EXAMPLES)]
     ContactSheet(SheetArgs),
     /// List the built-in style presets, or print one (`styles show NAME`) to copy and edit.
+    #[command(after_help = STYLES_EXAMPLES)]
     Styles(StylesArgs),
     /// Print how a PNG written by `paint` was made: preset, overridden keys, seed, version.
+    #[command(after_help = INFO_EXAMPLES)]
     Info(InfoArgs),
     /// Print a shell completion script, e.g. `anisopaint completions bash > anisopaint.bash`.
+    #[command(after_help = COMPLETIONS_EXAMPLES)]
     Completions {
         /// bash, zsh, fish, elvish or powershell.
         shell: clap_complete::Shell,
     },
 }
+
+const STYLES_EXAMPLES: &str = "\
+Examples:
+  anisopaint styles                                   # names and one-line descriptions
+  anisopaint styles show pen-hatch > my-ink.toml      # a preset to copy and edit
+  anisopaint paint photo.jpg -s my-ink.toml";
+
+const INFO_EXAMPLES: &str = "\
+Examples:
+  anisopaint info samples/astronaut.mosaic.png        # preset, --set keys, seed, version, command";
+
+const COMPLETIONS_EXAMPLES: &str = "\
+Examples:
+  anisopaint completions bash > ~/.local/share/bash-completion/completions/anisopaint
+  anisopaint completions zsh > ~/.zfunc/_anisopaint
+  anisopaint completions fish > ~/.config/fish/completions/anisopaint.fish";
 
 #[derive(Debug, Args)]
 struct InfoArgs {
@@ -909,6 +928,10 @@ fn batch(args: &BatchArgs) -> Result<usize> {
         shard,
     )?;
     check_output_dir(&args.out)?;
+    let stale = crate::io::remove_stale_partials(&args.out);
+    if stale > 0 && !args.quiet {
+        eprintln!("removed {stale} temporary file(s) left by an interrupted run");
+    }
     let total = items.len();
     let bar = if args.quiet {
         indicatif::ProgressBar::hidden()
