@@ -752,10 +752,7 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     })?;
     timed(&bars, Stage::Writing, || -> Result<()> {
         crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))?;
-        if let (Some(path), Some(svg)) = (&args.svg, &svg) {
-            crate::io::write_text(path, svg)?;
-        }
-        Ok(())
+        write_svg(args.svg.as_deref(), svg.as_deref())
     })?;
     bars.print_timings();
     Ok(())
@@ -819,13 +816,18 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
     };
     timed(&bars, Stage::Writing, || -> Result<()> {
         crate::style::save_painting(&out, &painting.image, &record)?;
-        if let (Some(path), Some(svg)) = (&args.svg, &painting.svg) {
-            crate::io::write_text(path, svg)?;
-        }
-        Ok(())
+        write_svg(args.svg.as_deref(), painting.svg.as_deref())
     })?;
     bars.print_timings();
     Ok(())
+}
+
+/// Writes the SVG document when both a path and a document are there.
+fn write_svg(path: Option<&Path>, svg: Option<&str>) -> Result<()> {
+    match (path, svg) {
+        (Some(path), Some(svg)) => crate::io::write_text(path, svg),
+        _ => Ok(()),
+    }
 }
 
 fn run_sheet(args: &SheetArgs) -> Result<()> {

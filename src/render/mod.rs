@@ -52,15 +52,23 @@ pub fn render(
     size: RenderSize,
 ) -> RgbImage {
     let cells = VoronoiCells::new(positions, metrics, mesh);
-    let scene = Scene::new(
+    look.render(&scene(cells, field, photo, size))
+}
+
+fn scene<'a>(
+    cells: VoronoiCells<'a>,
+    field: &'a TensorField,
+    photo: Option<&'a DynamicImage>,
+    size: RenderSize,
+) -> Scene<'a> {
+    Scene::new(
         cells,
         field,
         photo,
         size.width,
         size.height,
         size.supersample,
-    );
-    look.render(&scene)
+    )
 }
 
 /// [`render`], and the SVG form of the same picture when `svg` is set (see [`svg::svg`]).
@@ -80,14 +88,7 @@ pub fn render_with_svg(
         look.check_vector_form()?;
     }
     let cells = VoronoiCells::new(positions, metrics, mesh);
-    let scene = Scene::new(
-        cells,
-        field,
-        photo,
-        size.width,
-        size.height,
-        size.supersample,
-    );
+    let scene = scene(cells, field, photo, size);
     let image = look.render(&scene);
     let svg = if svg {
         Some(svg::svg(look, &scene)?)

@@ -8,10 +8,10 @@
 //!
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
 
-use super::colour::{lightness, linear_of, mix, site_hash, to_srgb, Linear};
+use super::colour::{linear_of, mix, site_hash, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::{Look, Scene};
-use super::texture::{Ink, TextureParams};
+use super::texture::{cell_tones, Ink, TextureKind, TextureParams};
 use super::trace::{rings, simplify, Borders};
 use super::voronoi::label_map;
 use crate::error::Result;
@@ -80,20 +80,12 @@ fn hex(c: Linear) -> String {
 /// A textured cell's colour seen from afar: its ink over paper at the cell's tone.
 fn tone_colours(scene: &Scene, p: &TextureParams) -> Vec<Linear> {
     let paper = linear_of(p.paper);
-    scene
-        .colours
-        .iter()
-        .map(|&colour| {
-            let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(p.gamma);
-            let ink = match p.ink {
-                Ink::Fixed(rgb) => linear_of(rgb),
-                Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
-            };
-            match p.kind {
-                // Strokes cover the cell in its own colour.
-                super::texture::TextureKind::Stroke => ink,
-                _ => mix(paper, ink, darkness),
-            }
+    cell_tones(&scene.colours, p)
+        .into_iter()
+        .map(|(darkness, ink)| match p.kind {
+            // Strokes cover the cell in its own colour.
+            TextureKind::Stroke => ink,
+            _ => mix(paper, ink, darkness),
         })
         .collect()
 }

@@ -118,6 +118,22 @@ struct Frame {
     anisotropy: f32,
 }
 
+/// Every cell's darkness (the tone curve applied to its lightness) and ink colour.
+#[must_use]
+pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linear)> {
+    colours
+        .iter()
+        .map(|&colour| {
+            let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
+            let ink = match params.ink {
+                Ink::Fixed(rgb) => linear_of(rgb),
+                Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
+            };
+            (darkness, ink)
+        })
+        .collect()
+}
+
 /// Renders `scene` with textured cells.
 #[must_use]
 pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
@@ -138,18 +154,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         })
         .collect();
     // Per cell, once: tone and ink (a power per raster point would cost more than the texture).
-    let tones: Vec<(f32, Linear)> = scene
-        .colours
-        .iter()
-        .map(|&colour| {
-            let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
-            let ink = match params.ink {
-                Ink::Fixed(rgb) => linear_of(rgb),
-                Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
-            };
-            (darkness, ink)
-        })
-        .collect();
+    let tones = cell_tones(&scene.colours, params);
     let paper = linear_of(params.paper);
     let px = 1.0 / scene.pixels_per_unit;
     let blurred = match (params.ink, scene.photo) {
