@@ -347,3 +347,44 @@ fn pixel_ink_follows_the_photo_within_cells() {
     assert!(left[0] > left[2] + 40, "left ink {left:?}");
     assert!(right[2] > right[0] + 40, "right ink {right:?}");
 }
+
+#[test]
+fn brush_strokes_over_an_underpainting_leave_no_paper() {
+    use anisopaint::render::glyphs::{GlyphParams, Shape};
+    let photo = image::open("samples/chelsea.png").unwrap();
+    let input = Input::Photo("samples/chelsea.png".into());
+    let field = field::load_field(&input, &FieldOptions::default())
+        .unwrap()
+        .metric;
+    let s = sampled(&field);
+    let magenta = [255, 0, 255];
+    for (underpaint, scale) in [(true, 0.8), (true, 1.4), (false, 0.8)] {
+        let look = Look::Glyphs(GlyphParams {
+            shape: Shape::Brush,
+            underpaint,
+            scale,
+            background: magenta,
+            ..GlyphParams::default()
+        });
+        let img = draw(&look, &s, &field, Some(&photo), (451, 300));
+        let paper = img.pixels().filter(|p| p.0 == magenta).count();
+        if underpaint {
+            assert_eq!(
+                paper, 0,
+                "scale {scale}: the underpainting covers everything"
+            );
+            // The strokes keep the photo's colours.
+            let (a, b) = (mean_rgb(&img), mean_rgb(&photo.to_rgb8()));
+            for c in 0..3 {
+                assert!(
+                    (a[c] - b[c]).abs() < 12.0,
+                    "channel {c}: {} vs {}",
+                    a[c],
+                    b[c]
+                );
+            }
+        } else {
+            assert!(paper > 1000, "small strokes alone leave paper showing");
+        }
+    }
+}

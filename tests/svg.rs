@@ -194,6 +194,16 @@ fn glyph_svg_draws_the_same_ellipses() {
 }
 
 #[test]
+fn brush_stroke_svg_looks_like_the_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let (png, svg, text) = paint_both(dir.path(), "strokes", &[]);
+    assert!(text.matches("<path").count() > 500);
+    // Flat strokes stand for the bristled ones over the same traced underpainting.
+    let tone = tone_difference(&png, &svg);
+    assert!(tone < 0.03, "tone differs by {tone:.4}");
+}
+
+#[test]
 fn mosaic_svg_looks_like_the_png() {
     let dir = tempfile::tempdir().unwrap();
     // Relief shades within cells, which flat SVG fills do not: compare without it.

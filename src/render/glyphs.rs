@@ -33,6 +33,9 @@ pub enum Shape {
     Rectangle,
     /// A superquadric `|x|^p + |y|^p = 1` (p = 2: ellipse; large p: rectangle).
     Superquadric(f32),
+    /// A brush stroke: blunt where it starts, tapering to its end, with bristle streaks
+    /// along its length (a gradient across it).
+    Brush,
 }
 
 /// What colour fills a glyph.
@@ -64,6 +67,9 @@ pub struct GlyphParams {
     pub background: [u8; 3],
     /// Seed of random placement.
     pub seed: u64,
+    /// Paint the cells in their colours first (no borders), so overlapping glyphs such as
+    /// brush strokes leave no paper showing.
+    pub underpaint: bool,
 }
 
 impl Default for GlyphParams {
@@ -77,6 +83,7 @@ impl Default for GlyphParams {
             outline: [30, 30, 30],
             background: [250, 248, 242],
             seed: 0,
+            underpaint: false,
         }
     }
 }
@@ -87,19 +94,22 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
     let r = scene.raster;
     let (w, h) = (r.width as u32, r.height as u32);
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
-    let bg = params.background;
-    pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
+    if params.underpaint {
+        let cells = scene.shade(|_, o| scene.colours[o.site as usize]);
+        for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(cells.pixels()) {
+            let [cr, cg, cb] = rgb.0;
+            *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
+        }
+    } else {
+        let bg = params.background;
+        pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
+    }
     let sx = r.width as f64 / r.domain.x;
     let sy = r.height as f64 / r.domain.y;
-    let mut fill = Paint::default();
     let mut line = Paint::default();
     let o = params.outline;
     line.set_color(Color::from_rgba8(o[0], o[1], o[2], 255));
-    let stroke = Stroke {
-        width: params.outline_width,
-        ..Stroke::default()
-    };
-    for (p, m, colour) in placed(scene, params) {
+    for (k, (p, m, colour)) in placed(scene, params).into_iter().enumerate() {
         let e = m.eigen();
         let (a, b) = (
             e.l1.abs() * f64::from(params.scale),
@@ -114,14 +124,13 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
         let t = Transform::from_rotate(e.angle.to_degrees() as f32)
             .post_translate(p.x as f32, p.y as f32)
             .post_scale(sx as f32, sy as f32);
-        let [cr, cg, cb] = colour.map(to_srgb);
-        fill.set_color(Color::from_rgba8(cr, cg, cb, 255));
+        let fill = glyph_paint(params.shape, colour, b as f32, k as u32);
         pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
         if params.outline_width > 0.0 {
             // The stroke width is given in output pixels: undo the scale for it.
             let s = Stroke {
                 width: params.outline_width / ((sx * sy).sqrt() as f32),
-                ..stroke.clone()
+                ..Stroke::default()
             };
             pixmap.stroke_path(&path, &line, &s, t, None);
         }
@@ -134,8 +143,54 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
     RgbImage::from_raw(w, h, rgb).expect("w·h RGB pixels")
 }
 
-/// Glyph centres, metrics and colours for the placement.
+/// Bristle streaks of a brush stroke: this many across its width.
+const BRISTLES: usize = 7;
+
+/// The paint of glyph `k`: its colour, and for brush strokes a gradient across the stroke
+/// (local y from −b to b) whose stops are the colour lightened or darkened per bristle.
+fn glyph_paint(shape: Shape, colour: Linear, b: f32, k: u32) -> Paint<'static> {
+    let mut paint = Paint::default();
+    let srgb = |c: Linear| {
+        let [r, g, b] = c.map(to_srgb);
+        Color::from_rgba8(r, g, b, 255)
+    };
+    if shape != Shape::Brush {
+        paint.set_color(srgb(colour));
+        return paint;
+    }
+    let stops: Vec<tiny_skia::GradientStop> = (0..BRISTLES)
+        .map(|i| {
+            let shade =
+                1.0 + 0.3 * (super::colour::site_hash(k.wrapping_mul(31) + i as u32, 6) - 0.5);
+            let c = colour.map(|v| (v * shade).clamp(0.0, 1.0));
+            tiny_skia::GradientStop::new(i as f32 / (BRISTLES - 1) as f32, srgb(c))
+        })
+        .collect();
+    match tiny_skia::LinearGradient::new(
+        tiny_skia::Point::from_xy(0.0, -b),
+        tiny_skia::Point::from_xy(0.0, b),
+        stops,
+        tiny_skia::SpreadMode::Pad,
+        Transform::identity(),
+    ) {
+        Some(shader) => paint.shader = shader,
+        None => paint.set_color(srgb(colour)),
+    }
+    paint
+}
+
+/// Glyph centres, metrics and colours for the placement, in drawing order: brush strokes
+/// broad first and details over them (ties keep the sample order), others as placed.
 pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
+    let mut glyphs = placed_unordered(scene, params);
+    if params.shape == Shape::Brush {
+        let area = |m: &Tensor| m.det().abs();
+        glyphs.sort_by(|a, b| area(&b.1).total_cmp(&area(&a.1)));
+    }
+    glyphs
+}
+
+fn placed_unordered(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
     let cells = &scene.cells;
     let colour_of = |i: usize, m: &Tensor| match params.colour {
         GlyphColour::Cell => scene.colours[i],
@@ -205,23 +260,39 @@ fn outline(shape: Shape, a: f32, b: f32) -> Option<Path> {
             2.0 * a,
             2.0 * b,
         )?)),
-        Shape::Superquadric(p) => {
-            let p = p.max(0.5);
+        Shape::Superquadric(_) | Shape::Brush => {
+            let points = polygon(shape, a, b, 64);
             let mut pb = PathBuilder::new();
-            let steps = 64;
-            for k in 0..=steps {
-                let th = k as f32 / steps as f32 * std::f32::consts::TAU;
-                let (c, s) = (th.cos(), th.sin());
-                let x = a * c.signum() * c.abs().powf(2.0 / p);
-                let y = b * s.signum() * s.abs().powf(2.0 / p);
-                if k == 0 {
-                    pb.move_to(x, y);
-                } else {
-                    pb.line_to(x, y);
-                }
+            pb.move_to(points[0][0], points[0][1]);
+            for p in &points[1..] {
+                pb.line_to(p[0], p[1]);
             }
             pb.close();
             pb.finish()
         }
     }
+}
+
+/// `steps` points around the outline of `shape` with semi-axes `a` (along x) and `b`, for
+/// the shapes drawn as polygons: a superquadric `|x/a|^p + |y/b|^p = 1`, or a brush stroke
+/// (an ellipse whose half-width shrinks from the blunt start at x = −a to 55 % at the end).
+#[must_use]
+pub fn polygon(shape: Shape, a: f32, b: f32, steps: usize) -> Vec<[f32; 2]> {
+    (0..steps)
+        .map(|k| {
+            let th = k as f32 / steps as f32 * std::f32::consts::TAU;
+            let (c, s) = (th.cos(), th.sin());
+            match shape {
+                Shape::Superquadric(p) => {
+                    let p = p.max(0.5);
+                    [
+                        a * c.signum() * c.abs().powf(2.0 / p),
+                        b * s.signum() * s.abs().powf(2.0 / p),
+                    ]
+                }
+                Shape::Brush => [a * c, b * s * (1.0 - 0.45 * (c + 1.0) * 0.5)],
+                Shape::Ellipse | Shape::Rectangle => [a * c, b * s],
+            }
+        })
+        .collect()
 }

@@ -173,12 +173,15 @@ fn num(v: f32) -> String {
 fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
     let r = scene.raster;
     let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
-    let bg = params.background;
-    let _ = writeln!(
-        out,
-        r#"<rect width="100%" height="100%" fill="{}"/>"#,
-        hex(linear_of(bg))
-    );
+    if params.underpaint {
+        cells(out, scene, &scene.colours, None);
+    } else {
+        let _ = writeln!(
+            out,
+            r#"<rect width="100%" height="100%" fill="{}"/>"#,
+            hex(linear_of(params.background))
+        );
+    }
     if params.outline_width > 0.0 {
         let _ = writeln!(
             out,
@@ -218,24 +221,15 @@ fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
                     h = num(2.0 * (e.l2.abs() * scale * k) as f32),
                 );
             }
-            Shape::Superquadric(power) => {
-                let (a, b) = (
-                    (e.l1.abs() * scale * k) as f32,
-                    (e.l2.abs() * scale * k) as f32,
-                );
-                let power = power.max(0.5);
-                let points: Vec<[f32; 2]> = (0..48)
-                    .map(|i| {
-                        let th = i as f32 / 48.0 * std::f32::consts::TAU;
-                        let (c, s) = (th.cos(), th.sin());
-                        [
-                            a * c.signum() * c.abs().powf(2.0 / power),
-                            b * s.signum() * s.abs().powf(2.0 / power),
-                        ]
-                    })
-                    .collect();
+            Shape::Superquadric(_) | Shape::Brush => {
+                let a = (e.l1.abs() * scale * k) as f32;
+                let b = (e.l2.abs() * scale * k) as f32;
                 let mut d = String::new();
-                path_data(&mut d, &points, true);
+                path_data(
+                    &mut d,
+                    &super::glyphs::polygon(params.shape, a, b, 48),
+                    true,
+                );
                 let _ = writeln!(
                     out,
                     r#"<path transform="translate({cx} {cy}) rotate({angle})" fill="{fill}" d="{d}"/>"#

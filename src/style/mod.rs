@@ -13,7 +13,7 @@ pub mod sheet;
 use crate::error::{Error, Result};
 use crate::field::MetricParams;
 use crate::render::fabric::FabricParams;
-use crate::render::glyphs::{GlyphParams, Placement};
+use crate::render::glyphs::{GlyphParams, Placement, Shape};
 use crate::render::mosaic::MosaicParams;
 use crate::render::texture::{Ink, TextureKind, TextureParams};
 use crate::render::Look;
@@ -111,6 +111,10 @@ pub struct LookSection {
     /// A greyscale PNG tile (dark = ink), relative to the preset file.
     pub texture: Option<PathBuf>,
     pub placement: Option<String>,
+    /// Glyph outline: "ellipse", "rectangle", "brush" or "superquadric:P".
+    pub shape: Option<String>,
+    /// Paint the cells in their colours under the glyphs.
+    pub underpaint: Option<bool>,
     pub glyph_scale: Option<f32>,
     pub outline_width: Option<f32>,
     pub background: Option<String>,
@@ -265,6 +269,8 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             gamma: o.gamma.or(b.gamma),
             fade_anisotropy: o.fade_anisotropy.or(b.fade_anisotropy),
             texture: o.texture.or(b.texture),
+            shape: o.shape.or(b.shape),
+            underpaint: o.underpaint.or(b.underpaint),
             placement: o.placement.or(b.placement),
             glyph_scale: o.glyph_scale.or(b.glyph_scale),
             outline_width: o.outline_width.or(b.outline_width),
@@ -278,6 +284,30 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
 }
 
 /// `#rrggbb` → bytes.
+fn glyph_shape(v: &str) -> Result<Shape> {
+    let bad = || {
+        Error::param(
+            "look.shape",
+            format!("{v}: expected ellipse, rectangle, brush or superquadric:P (P > 0)"),
+        )
+    };
+    Ok(match v {
+        "ellipse" => Shape::Ellipse,
+        "rectangle" => Shape::Rectangle,
+        "brush" => Shape::Brush,
+        other => {
+            let power: f32 = other
+                .strip_prefix("superquadric:")
+                .and_then(|p| p.parse().ok())
+                .ok_or_else(bad)?;
+            if !(power > 0.0 && power.is_finite()) {
+                return Err(bad());
+            }
+            Shape::Superquadric(power)
+        }
+    })
+}
+
 fn colour(key: &str, v: &str) -> Result<[u8; 3]> {
     let hex = v.strip_prefix('#').unwrap_or(v);
     let bad = || Error::param(key, format!("{v}: expected #rrggbb"));
@@ -436,6 +466,10 @@ impl Preset {
                 }
             };
         }
+        if let Some(shape) = &l.shape {
+            p.shape = glyph_shape(shape)?;
+        }
+        p.underpaint = l.underpaint.unwrap_or(p.underpaint);
         p.seed = self.sampler().seed;
         Ok(())
     }
