@@ -2,8 +2,10 @@
 //! polygon for superquadrics) per glyph with the same axes, angle and colour as the raster
 //! picture. Cell looks become the generalized Voronoi cells (paper section 6) as polygons
 //! traced from the label map at the output size and simplified ([`super::trace`]), filled
-//! with the cell colour: the mean photo colour for the mosaic, the cell's mean tone of ink on
-//! paper for the textured looks; the mosaic's leading is one stroked path of all borders.
+//! with the cell colour (the mean photo colour for the mosaic; the mosaic's leading is one
+//! stroked path of all borders). Hatch and cross-hatch become vector lines clipped to each
+//! cell, with the raster's directions, spacings and ink coverage (drawable by a pen plotter);
+//! the other textured looks become their cells' mean tone of ink on paper.
 //! Fabric and LIC are images of noise and have no vector form.
 //!
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
@@ -11,10 +13,11 @@
 use super::colour::{linear_of, mix, site_hash, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::{Look, Scene};
-use super::texture::{cell_tones, Ink, TextureKind, TextureParams};
+use super::texture::{cell_tones, smoothstep, spacing, Frame, Ink, TextureKind, TextureParams};
 use super::trace::{rings, simplify, Borders};
 use super::voronoi::label_map;
 use crate::error::Result;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::fmt::Write;
 
 /// Largest distance of a traced border from the pixel staircase it simplifies, in output
@@ -53,6 +56,9 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
             let border = (p.border_width > 0.0).then_some((p.border_colour, p.border_width));
             cells(&mut out, scene, &colours, border);
         }
+        Look::Texture(p) if matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch) => {
+            hatched(&mut out, scene, p);
+        }
         Look::Texture(p) => {
             let colours = tone_colours(scene, p);
             let border = (p.border_width > 0.0).then(|| {
@@ -90,18 +96,60 @@ fn tone_colours(scene: &Scene, p: &TextureParams) -> Vec<Linear> {
         .collect()
 }
 
+/// The cells of a scene as simplified polygons: the border chains (for the leading) and
+/// every cell's rings.
+struct Traced {
+    borders: Borders,
+    simplified: Vec<Vec<[f32; 2]>>,
+    rings: Vec<Vec<Vec<[f32; 2]>>>,
+}
+
+impl Traced {
+    fn new(scene: &Scene) -> Self {
+        let r = scene.raster;
+        let labels = label_map(&scene.cells, &r);
+        let borders = Borders::trace(&labels, r.width, r.height);
+        let simplified: Vec<Vec<[f32; 2]>> = borders
+            .chains
+            .iter()
+            .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
+            .collect();
+        let rings = rings(&borders, &simplified, scene.colours.len());
+        Traced {
+            borders,
+            simplified,
+            rings,
+        }
+    }
+
+    /// Path data of cell `i`'s rings.
+    fn cell_path(&self, i: usize, d: &mut String) {
+        d.clear();
+        for ring in &self.rings[i] {
+            path_data(d, ring, true);
+        }
+    }
+
+    /// One stroked path of every border between two cells (not the picture's edge).
+    fn write_leading(&self, out: &mut String, colour: [u8; 3], width: f32) {
+        let mut d = String::new();
+        for (chain, s) in self.borders.chains.iter().zip(&self.simplified) {
+            if chain.left >= 0 && chain.right >= 0 {
+                path_data(&mut d, s, false);
+            }
+        }
+        let _ = writeln!(
+            out,
+            r#"<path fill="none" stroke="{}" stroke-width="{width}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,
+            hex(linear_of(colour))
+        );
+    }
+}
+
 /// Writes the cells of `scene` filled with `colours`, and the borders stroked with
 /// `(colour, width)` when given.
 fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u8; 3], f32)>) {
-    let r = scene.raster;
-    let labels = label_map(&scene.cells, &r);
-    let borders = Borders::trace(&labels, r.width, r.height);
-    let simplified: Vec<Vec<[f32; 2]>> = borders
-        .chains
-        .iter()
-        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
-        .collect();
-    let rings = rings(&borders, &simplified, colours.len());
+    let traced = Traced::new(scene);
     // Without leading, a hairline of the cell's own colour hides the seams anti-aliasing
     // leaves between abutting polygons.
     let seam = if border.is_none() {
@@ -111,14 +159,11 @@ fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u
     };
     let _ = writeln!(out, r#"<g stroke="none"{seam}>"#);
     let mut d = String::new();
-    for (cell_rings, &colour) in rings.iter().zip(colours) {
-        if cell_rings.is_empty() {
+    for (i, &colour) in colours.iter().enumerate() {
+        if traced.rings[i].is_empty() {
             continue;
         }
-        d.clear();
-        for ring in cell_rings {
-            path_data(&mut d, ring, true);
-        }
+        traced.cell_path(i, &mut d);
         let c = hex(colour);
         if border.is_none() {
             let _ = writeln!(out, r#"<path fill="{c}" stroke="{c}" d="{d}"/>"#);
@@ -128,17 +173,115 @@ fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u
     }
     out.push_str("</g>\n");
     if let Some((colour, width)) = border {
-        d.clear();
-        for (chain, s) in borders.chains.iter().zip(&simplified) {
-            // Cell borders only, not the picture's edge.
-            if chain.left >= 0 && chain.right >= 0 {
-                path_data(&mut d, s, false);
-            }
+        traced.write_leading(out, colour, width);
+    }
+}
+
+/// Writes hatched cells as vector lines, as [`textured`](super::texture::textured) draws
+/// them: per cell, lines along its long axis (cross-hatch: one to three layers by tone) at
+/// its spacing, on the same lines as the raster so they continue into neighbouring cells,
+/// clipped to the traced cell. Where the metric is nearly isotropic the raster fades the
+/// lines towards flat tone; here the cell gets that flat tint and thinner lines over it, so
+/// the mean tone is kept. Pen plotters can draw the result.
+fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
+    let traced = Traced::new(scene);
+    let r = scene.raster;
+    let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let px = 1.0 / scene.pixels_per_unit;
+    let paper = linear_of(p.paper);
+    let _ = writeln!(
+        out,
+        r#"<rect width="100%" height="100%" fill="{}"/>"#,
+        hex(paper)
+    );
+    let tones = cell_tones(&scene.colours, p);
+    let (mut d, mut lines) = (String::new(), String::new());
+    for (i, &(darkness, ink)) in tones.iter().enumerate() {
+        if traced.rings[i].is_empty() || darkness <= 0.0 {
+            continue;
+        }
+        let frame = Frame::of(&scene.cells.metrics()[i]);
+        let tint = darkness * (1.0 - smoothstep(p.fade_anisotropy, frame.anisotropy));
+        // Lines over the tint so that tint + (1 − tint)·w = darkness.
+        let w = ((darkness - tint) / (1.0 - tint).max(1e-6)).clamp(0.0, 1.0);
+        traced.cell_path(i, &mut d);
+        if tint > 0.005 {
+            let _ = writeln!(
+                out,
+                r#"<path fill="{}" d="{d}"/>"#,
+                hex(mix(paper, ink, tint))
+            );
+        }
+        let layers: &[f64] = match (&p.kind, w) {
+            (TextureKind::CrossHatch, w) if w >= 0.6 => &[0.0, FRAC_PI_2, FRAC_PI_4],
+            (TextureKind::CrossHatch, w) if w >= 0.3 => &[0.0, FRAC_PI_2],
+            _ => &[0.0],
+        };
+        // Each of k layers covers x with 1 − (1 − x)^k = w.
+        let x = 1.0 - (1.0 - w).powf(1.0 / layers.len() as f32);
+        let spacing = spacing(frame.b, p, px);
+        let width = f64::from(x) * spacing * (sx * sy).sqrt();
+        if width < 0.05 {
+            continue;
+        }
+        lines.clear();
+        for &phi in layers {
+            family(
+                &mut lines,
+                &traced.rings[i],
+                frame.angle + phi,
+                spacing,
+                (sx, sy),
+            );
+        }
+        if lines.is_empty() {
+            continue;
         }
         let _ = writeln!(
             out,
-            r#"<path fill="none" stroke="{}" stroke-width="{width}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,
-            hex(linear_of(colour))
+            r#"<clipPath id="c{i}"><path d="{d}"/></clipPath><path clip-path="url(#c{i})" fill="none" stroke="{}" stroke-width="{}" d="{lines}"/>"#,
+            hex(ink),
+            num(width as f32)
+        );
+    }
+    if p.border_width > 0.0 {
+        let ink = match p.ink {
+            Ink::Fixed(rgb) => rgb,
+            Ink::Cell(_) | Ink::Pixel(_) => [30, 30, 30],
+        };
+        traced.write_leading(out, ink, p.border_width);
+    }
+}
+
+/// Appends the lines `n·q = k·spacing` (n the normal of direction `angle`, q in domain units)
+/// that cross the bounding box of `rings` (output pixels), as segments in output pixels.
+fn family(d: &mut String, rings: &[Vec<[f32; 2]>], angle: f64, spacing: f64, scale: (f64, f64)) {
+    let (sin, cos) = angle.sin_cos();
+    let (n, t) = ((-sin, cos), (cos, sin));
+    let (mut n_range, mut t_range) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
+    for q in rings.iter().flatten() {
+        let (x, y) = (f64::from(q[0]) / scale.0, f64::from(q[1]) / scale.1);
+        let (a, b) = (n.0 * x + n.1 * y, t.0 * x + t.1 * y);
+        n_range = (n_range.0.min(a), n_range.1.max(a));
+        t_range = (t_range.0.min(b), t_range.1.max(b));
+    }
+    let (first, last) = (
+        (n_range.0 / spacing).floor() as i64,
+        (n_range.1 / spacing).ceil() as i64,
+    );
+    if last - first > 400 {
+        return;
+    }
+    for k in first..=last {
+        let c = k as f64 * spacing;
+        let point = |along: f64| {
+            let (x, y) = (n.0 * c + t.0 * along, n.1 * c + t.1 * along);
+            [(x * scale.0) as f32, (y * scale.1) as f32]
+        };
+        path_data(
+            d,
+            &[point(t_range.0 - spacing), point(t_range.1 + spacing)],
+            false,
         );
     }
 }

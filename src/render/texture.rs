@@ -110,12 +110,29 @@ impl TextureParams {
 
 /// A site's frame: long-axis direction and semi-axes, precomputed once per render.
 #[derive(Clone, Copy)]
-struct Frame {
+pub(super) struct Frame {
+    pub(super) angle: f64,
     cos: f64,
     sin: f64,
     a: f64,
-    b: f64,
-    anisotropy: f32,
+    pub(super) b: f64,
+    pub(super) anisotropy: f32,
+}
+
+impl Frame {
+    /// The frame of a site with metric `m`.
+    pub(super) fn of(m: &crate::field::Tensor) -> Self {
+        let e = m.eigen();
+        let (a, b) = (e.l1.abs().max(1e-9), e.l2.abs().max(1e-9));
+        Frame {
+            angle: e.angle,
+            cos: e.angle.cos(),
+            sin: e.angle.sin(),
+            a,
+            b,
+            anisotropy: (1.0 - b / a).clamp(0.0, 1.0) as f32,
+        }
+    }
 }
 
 /// Every cell's darkness (the tone curve applied to its lightness) and ink colour.
@@ -137,22 +154,7 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
 /// Renders `scene` with textured cells.
 #[must_use]
 pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
-    let frames: Vec<Frame> = scene
-        .cells
-        .metrics()
-        .iter()
-        .map(|m| {
-            let e = m.eigen();
-            let (a, b) = (e.l1.abs().max(1e-9), e.l2.abs().max(1e-9));
-            Frame {
-                cos: e.angle.cos(),
-                sin: e.angle.sin(),
-                a,
-                b,
-                anisotropy: (1.0 - b / a).clamp(0.0, 1.0) as f32,
-            }
-        })
-        .collect();
+    let frames: Vec<Frame> = scene.cells.metrics().iter().map(Frame::of).collect();
     // Per cell, once: tone and ink (a power per raster point would cost more than the texture).
     let tones = cell_tones(&scene.colours, params);
     let paper = linear_of(params.paper);
@@ -237,7 +239,7 @@ impl BlurredPhoto {
 }
 
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
-fn smoothstep(edge: f32, x: f32) -> f32 {
+pub(super) fn smoothstep(edge: f32, x: f32) -> f32 {
     if edge <= 0.0 {
         return 1.0;
     }
@@ -246,7 +248,7 @@ fn smoothstep(edge: f32, x: f32) -> f32 {
 }
 
 /// Spacing of lines in domain units for a cell of short semi-axis `b`.
-fn spacing(b: f64, params: &TextureParams, px: f64) -> f64 {
+pub(super) fn spacing(b: f64, params: &TextureParams, px: f64) -> f64 {
     (2.0 * b / f64::from(params.lines_per_cell.max(0.1))).max(f64::from(params.min_spacing_px) * px)
 }
 
