@@ -326,3 +326,25 @@ fn fabric_has_no_vector_form() {
     assert!(stderr.contains("no vector form"), "{stderr}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
+
+#[test]
+fn an_svg_output_name_writes_the_vector_form_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("only.svg");
+    bin()
+        .args(["paint", "samples/chelsea.png", "-s", "glyphs", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
+    assert_eq!(rasterise(&out, 1).dimensions(), (451, 300));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    // A format we do not write is refused before any work.
+    let run = bin()
+        .args(["paint", "samples/chelsea.png", "-o"])
+        .arg(dir.path().join("x.bmp"))
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    assert!(stderr.contains(".bmp"), "{stderr}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}

@@ -95,7 +95,8 @@ struct PaintArgs {
     /// A built-in preset (see `anisopaint styles`) or a .toml file.
     #[arg(short, long, default_value = crate::style::DEFAULT_STYLE)]
     style: String,
-    /// Output image; default INPUT-STEM.STYLE.png beside the input.
+    /// Output image (PNG, JPEG, TIFF, WebP, or SVG for the vector form only); default
+    /// INPUT-STEM.STYLE.png beside the input.
     #[arg(short, long)]
     out: Option<PathBuf>,
     /// Seed of the sampler (overrides the preset's).
@@ -633,12 +634,20 @@ fn run_render(args: &RenderArgs) -> Result<()> {
     {
         check_output(&input, out)?;
     }
+    // `-o picture.svg` asks for the vector form only.
+    let svg_only = is_svg(&args.out);
+    let svg_path = if svg_only {
+        Some(args.out.as_path())
+    } else {
+        check_raster_format(&args.out)?;
+        args.svg.as_deref()
+    };
     if !(1..=4).contains(&args.supersample) {
         return Err(Error::param("--supersample", "must be 1, 2, 3 or 4"));
     }
     let mut look = Look::named(&args.look)
         .ok_or_else(|| Error::param("--look", format!("unknown look {}", args.look)))?;
-    if args.svg.is_some() {
+    if svg_path.is_some() {
         look.check_vector_form()?;
     }
     match (&mut look, &args.texture) {
@@ -747,12 +756,14 @@ fn run_render(args: &RenderArgs) -> Result<()> {
             field,
             loaded.photo.as_ref(),
             size,
-            args.svg.is_some(),
+            svg_path.is_some(),
         )
     })?;
     timed(&bars, Stage::Writing, || -> Result<()> {
-        crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))?;
-        write_svg(args.svg.as_deref(), svg.as_deref())
+        if !svg_only {
+            crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))?;
+        }
+        write_svg(svg_path, svg.as_deref())
     })?;
     bars.print_timings();
     Ok(())
@@ -795,7 +806,15 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         None => default_output(&input, &preset.name),
     };
     check_output(&input, &out)?;
-    if let Some(svg) = &args.svg {
+    // `-o picture.svg` asks for the vector form only.
+    let svg_only = is_svg(&out);
+    let svg_path = if svg_only {
+        Some(out.as_path())
+    } else {
+        check_raster_format(&out)?;
+        args.svg.as_deref()
+    };
+    if let Some(svg) = svg_path {
         check_output(&input, svg)?;
     }
     let bars = StageBars::new(args.verbosity.get());
@@ -804,7 +823,7 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         &options,
         &preset,
         &sampler,
-        args.svg.is_some(),
+        svg_path.is_some(),
         &bars,
     )?;
     let record = crate::style::PaintRecord {
@@ -815,11 +834,38 @@ fn run_paint(args: &PaintArgs) -> Result<()> {
         seed: sampler.seed,
     };
     timed(&bars, Stage::Writing, || -> Result<()> {
-        crate::style::save_painting(&out, &painting.image, &record)?;
-        write_svg(args.svg.as_deref(), painting.svg.as_deref())
+        if !svg_only {
+            crate::style::save_painting(&out, &painting.image, &record)?;
+        }
+        write_svg(svg_path, painting.svg.as_deref())
     })?;
     bars.print_timings();
     Ok(())
+}
+
+/// Whether `path` names an SVG file.
+fn is_svg(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+}
+
+/// Refuses, before any work, an output whose extension names a format we do not write.
+fn check_raster_format(path: &Path) -> Result<()> {
+    let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
+        return Ok(()); // no extension: PNG
+    };
+    let known = ["png", "jpg", "jpeg", "tif", "tiff", "webp"];
+    if known.contains(&ext.to_ascii_lowercase().as_str()) {
+        return Ok(());
+    }
+    Err(Error::param(
+        "output",
+        format!(
+            "{}: .{ext} is not a format anisopaint writes (png, jpg, tif, webp; svg with paint \
+             and render)",
+            path.display()
+        ),
+    ))
 }
 
 /// Writes the SVG document when both a path and a document are there.
