@@ -129,7 +129,7 @@ struct SheetArgs {
     #[arg(short, long, value_delimiter = ',', conflicts_with = "all_styles")]
     style: Vec<String>,
     /// Every built-in preset (the default without -s).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "vary")]
     all_styles: bool,
     /// Sweep one key of one preset: KEY=V1,V2,... (one tile per value).
     #[arg(long, value_name = "KEY=V1,V2,...")]
