@@ -17,23 +17,26 @@ use std::process::ExitCode;
 
 /// Turns photos and 2-D tensor fields into painterly images by anisotropic particle sampling.
 #[derive(Debug, Parser)]
-#[command(name = "anisopaint", version, about, propagate_version = true)]
+#[command(
+    name = "anisopaint",
+    version,
+    about,
+    propagate_version = true,
+    after_help = START_HERE
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
+const START_HERE: &str = "\
+Start with:
+  anisopaint paint photo.jpg                        # writes photo.mosaic.png beside it
+  anisopaint contact-sheet photo.jpg -o sheet.png   # every preset side by side
+  anisopaint styles                                 # the presets, a line each";
+
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Compute the metric (field of ellipses) of a photo, .npy tensor field or analytic field.
-    #[command(after_help = FIELD_EXAMPLES)]
-    Field(FieldArgs),
-    /// Pack the field's ellipses with the anisotropic particle sampler (paper section 5).
-    #[command(after_help = SAMPLE_EXAMPLES)]
-    Sample(SampleArgs),
-    /// Draw a look from the samples: Voronoi mosaics, textured cells, glyphs, fabric, LIC.
-    #[command(after_help = RENDER_EXAMPLES)]
-    Render(RenderArgs),
     /// Paint a photo or field in a style preset: metric, sampling and look in one go.
     #[command(after_help = PAINT_EXAMPLES)]
     Paint(PaintArgs),
@@ -49,6 +52,15 @@ enum Command {
     /// Print how a PNG written by `paint` was made: preset, overridden keys, seed, version.
     #[command(after_help = INFO_EXAMPLES)]
     Info(InfoArgs),
+    /// Compute the metric (field of ellipses) of a photo, .npy tensor field or analytic field.
+    #[command(after_help = FIELD_EXAMPLES)]
+    Field(FieldArgs),
+    /// Pack the field's ellipses with the anisotropic particle sampler (paper section 5).
+    #[command(after_help = SAMPLE_EXAMPLES)]
+    Sample(SampleArgs),
+    /// Draw a look from the samples: Voronoi mosaics, textured cells, glyphs, fabric, LIC.
+    #[command(after_help = RENDER_EXAMPLES)]
+    Render(RenderArgs),
     /// Print a shell completion script, e.g. `anisopaint completions bash > anisopaint.bash`.
     #[command(after_help = COMPLETIONS_EXAMPLES)]
     Completions {
