@@ -1,6 +1,7 @@
 //! Progress on the terminal: an indicatif bar per long stage of one painting (a counted bar
-//! for the relaxation iterations, spinners for the rest) and, with `-v`, a line of per-stage
-//! timings at the end. Bars draw only when standard error is a terminal and not with `-q`;
+//! for the relaxation iterations, spinners for the rest), counted bars over the files of a
+//! batch or the tiles of a contact sheet, and, with `-v`, a line of per-stage timings at the
+//! end. Bars draw only when standard error is a terminal and not with `-q`;
 //! the timings print whenever `-v` is given, so they reach logs as well.
 
 use crate::progress::{Observer, Stage};
@@ -54,6 +55,24 @@ impl StageBars {
             total.as_secs_f64()
         );
     }
+}
+
+/// A bar counting `total` `things` (tiles, files) with elapsed time and ETA, titled `prefix`;
+/// hidden when `quiet` (and, as every bar, off a terminal).
+pub fn counted(total: usize, prefix: &str, things: &str, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let template = format!(
+        "{{prefix}} [{{bar:32}}] {{pos}}/{{len}} {things}, {{elapsed}} elapsed, ETA {{eta}}"
+    );
+    let bar = ProgressBar::new(total as u64).with_style(
+        ProgressStyle::with_template(&template)
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_prefix(prefix.to_string());
+    bar
 }
 
 fn bar_for(stage: Stage, total: Option<u64>) -> ProgressBar {

@@ -901,17 +901,7 @@ fn run_sheet(args: &SheetArgs) -> Result<()> {
         (styles, _) => styles.to_vec(),
     };
     let variants = variants(&styles, args.vary.as_deref(), &args.sets)?;
-    let bar = if args.quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        indicatif::ProgressBar::new(variants.len() as u64).with_style(
-            indicatif::ProgressStyle::with_template(
-                "contact sheet [{bar:32}] {pos}/{len} tiles, ETA {eta}",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        )
-    };
+    let bar = bars::counted(variants.len(), "contact sheet", "tiles", args.quiet);
     let sheet = paint_sheet(
         &input,
         &options,
@@ -993,18 +983,7 @@ fn batch(args: &BatchArgs) -> Result<usize> {
         eprintln!("removed {stale} temporary file(s) left by an interrupted run");
     }
     let total = items.len();
-    let bar = if args.quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        indicatif::ProgressBar::new(total as u64).with_style(
-            indicatif::ProgressStyle::with_template(
-                "{prefix} [{bar:32}] {pos}/{len} files, {elapsed} elapsed, ETA {eta}",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        )
-    };
-    bar.set_prefix(preset.name.clone());
+    let bar = bars::counted(total, &preset.name, "files", args.quiet);
     let done_count = std::sync::atomic::AtomicUsize::new(0);
     let outcomes = run(
         &items,
