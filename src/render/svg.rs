@@ -302,14 +302,23 @@ fn path_data(d: &mut String, points: &[[f32; 2]], close: bool) {
     }
 }
 
-/// A coordinate with at most one decimal.
-fn num(v: f32) -> String {
-    let r = (v * 10.0).round() / 10.0;
-    if r == r.trunc() {
-        format!("{}", r as i64)
-    } else {
-        format!("{r:.1}")
+/// A coordinate printed with at most one decimal (no allocation: it formats in place).
+#[derive(Clone, Copy)]
+struct Num(f32);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let r = (self.0 * 10.0).round() / 10.0;
+        if r == r.trunc() {
+            write!(f, "{}", r as i64)
+        } else {
+            write!(f, "{r:.1}")
+        }
     }
+}
+
+fn num(v: f32) -> Num {
+    Num(v)
 }
 
 /// Writes the glyphs of `scene` as vector shapes.
