@@ -2,8 +2,8 @@
 //! the library and maps failures to exit codes (0 ok, 1 some items of a batch failed, 2 bad
 //! usage or input). Everything here is a thin layer; the work lives in the other modules.
 //! This file holds the command enum, the options every input-reading command shares and the
-//! output checks; [`paint`] the painting commands, [`batch`] folder batches, [`explore`] the
-//! stage-by-stage commands, [`bars`] the progress bars.
+//! output checks; `paint.rs` the painting commands, `batch.rs` folder batches, `explore.rs` the
+//! stage-by-stage commands, `bars.rs` the progress bars.
 
 mod bars;
 mod batch;
