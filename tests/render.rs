@@ -1,5 +1,5 @@
 //! The renderers against independent truths: the label map against a brute-force owner over
-//! all sites, hatch direction against the field's angle measured from the picture's own
+//! all sites, hatch and LIC direction against the field's angle measured from the picture's own
 //! structure tensor, flat photos against the colours they must give, odd sizes, and small
 //! reference pictures compared with a per-channel tolerance (`REGENERATE=1` rewrites them; on
 //! a mismatch a diff picture is written next to the reference).
@@ -137,37 +137,29 @@ fn line_direction(img: &RgbImage) -> f64 {
 }
 
 #[test]
-fn hatch_lines_follow_a_constant_field() {
-    for angle in [0.0f64, 30.0, 75.0, 120.0] {
-        let field = analytic(
-            &format!("constant:angle={angle},anisotropy=3,size=0.03"),
-            256,
-            256,
-        );
-        let s = sampled(&field);
-        let img = draw(&Look::named("hatch").unwrap(), &s, &field, None, (512, 512));
-        let found = line_direction(&img);
-        let off = (found - angle).rem_euclid(180.0);
-        let off = off.min(180.0 - off);
-        assert!(off <= 2.0, "field at {angle}°: lines at {found:.2}°");
-    }
-}
-
-#[test]
-fn lic_streaks_follow_a_constant_field() {
-    // LIC smears white noise along the long axis: the streaks' direction is the field's.
-    for angle in [30.0f64, 120.0] {
-        let field = analytic(
-            &format!("constant:angle={angle},anisotropy=3,size=0.03"),
-            256,
-            256,
-        );
-        let s = sampled(&field);
-        let img = draw(&Look::named("lic").unwrap(), &s, &field, None, (384, 384));
-        let found = line_direction(&img);
-        let off = (found - angle).rem_euclid(180.0);
-        let off = off.min(180.0 - off);
-        assert!(off <= 2.0, "field at {angle}°: streaks at {found:.2}°");
+fn hatch_lines_and_lic_streaks_follow_a_constant_field() {
+    // Hatching draws lines along the long axis; LIC smears white noise along it.
+    let cases = [
+        ("hatch", &[0.0f64, 30.0, 75.0, 120.0][..], 512),
+        ("lic", &[30.0, 120.0][..], 384),
+    ];
+    for (look, angles, size) in cases {
+        for &angle in angles {
+            let field = analytic(
+                &format!("constant:angle={angle},anisotropy=3,size=0.03"),
+                256,
+                256,
+            );
+            let s = sampled(&field);
+            let img = draw(&Look::named(look).unwrap(), &s, &field, None, (size, size));
+            let found = line_direction(&img);
+            let off = (found - angle).rem_euclid(180.0);
+            let off = off.min(180.0 - off);
+            assert!(
+                off <= 2.0,
+                "{look}, field at {angle}°: lines at {found:.2}°"
+            );
+        }
     }
 }
 
