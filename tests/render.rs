@@ -1,6 +1,6 @@
 //! The renderers against independent truths: the label map against a brute-force owner over
-//! all sites, hatch and LIC direction against the field's angle measured from the picture's own
-//! structure tensor, flat photos against the colours they must give, odd sizes, and small
+//! all sites, hatch and LIC direction against the field's angle (found in the picture by a
+//! Radon-style search), flat photos against the colours they must give, odd sizes, and small
 //! reference pictures compared with a per-channel tolerance (`REGENERATE=1` rewrites them; on
 //! a mismatch a diff picture is written next to the reference).
 
