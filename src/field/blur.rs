@@ -25,8 +25,8 @@ pub fn gaussian_kernel(sigma: f32) -> Vec<f32> {
     k
 }
 
-/// Gaussian blur of a `width × height` image with `channels` interleaved channels.
-/// A non-positive or non-finite `sigma` returns a copy.
+/// Gaussian blur of a `width × height` image with `channels` interleaved channels, into a
+/// new buffer. A non-positive or non-finite `sigma` returns a copy.
 ///
 /// # Panics
 /// If `data.len() != width·height·channels`.
@@ -38,9 +38,28 @@ pub fn gaussian_blur_parallel(
     channels: usize,
     sigma: f32,
 ) -> Vec<f32> {
+    let mut out = data.to_vec();
+    gaussian_blur_parallel_mut(&mut out, width, height, channels, sigma);
+    out
+}
+
+/// [`gaussian_blur_parallel`] in place: the horizontal pass works row by row on the image
+/// itself, and only the vertical pass needs a copy, so a blur touches one fresh buffer instead
+/// of two (on a VM, first touches of fresh pages were a third of the metric stage's time).
+/// Results are bit-identical to [`gaussian_blur_parallel`].
+///
+/// # Panics
+/// If `data.len() != width·height·channels`.
+pub fn gaussian_blur_parallel_mut(
+    data: &mut [f32],
+    width: usize,
+    height: usize,
+    channels: usize,
+    sigma: f32,
+) {
     assert_eq!(data.len(), width * height * channels, "image buffer size");
     if !(sigma > 0.0 && sigma.is_finite()) || data.is_empty() {
-        return data.to_vec();
+        return;
     }
     let kernel = gaussian_kernel(sigma);
     let radius = kernel.len() / 2;
@@ -49,11 +68,8 @@ pub fn gaussian_blur_parallel(
     // Horizontal pass: pad each row by replication into a scratch buffer (one per rayon job,
     // not per pixel), then accumulate tap by tap over the whole row, a loop the compiler
     // vectorises.
-    let mut horizontal = vec![0.0f32; data.len()];
-    horizontal
-        .par_chunks_mut(stride)
-        .zip(data.par_chunks(stride))
-        .for_each_init(Vec::new, |padded: &mut Vec<f32>, (out, row)| {
+    data.par_chunks_mut(stride)
+        .for_each_init(Vec::new, |padded: &mut Vec<f32>, row| {
             padded.clear();
             for _ in 0..radius {
                 padded.extend_from_slice(&row[..channels]);
@@ -62,19 +78,21 @@ pub fn gaussian_blur_parallel(
             for _ in 0..radius {
                 padded.extend_from_slice(&row[stride - channels..]);
             }
+            row.fill(0.0);
             for (j, w) in kernel.iter().enumerate() {
                 let src = &padded[j * channels..j * channels + stride];
-                for (o, s) in out.iter_mut().zip(src) {
+                for (o, s) in row.iter_mut().zip(src) {
                     *o += w * s;
                 }
             }
         });
 
     // Vertical pass: each output row is a weighted sum of whole input rows, read in order.
-    let mut out = vec![0.0f32; data.len()];
-    out.par_chunks_mut(stride)
+    let horizontal = data.to_vec();
+    data.par_chunks_mut(stride)
         .enumerate()
         .for_each(|(y, out_row)| {
+            out_row.fill(0.0);
             for (j, w) in kernel.iter().enumerate() {
                 let src_y = (y + j).saturating_sub(radius).min(height - 1);
                 let src = &horizontal[src_y * stride..(src_y + 1) * stride];
@@ -83,7 +101,6 @@ pub fn gaussian_blur_parallel(
                 }
             }
         });
-    out
 }
 
 #[cfg(test)]
@@ -125,6 +142,24 @@ mod tests {
                 assert!((g - r).abs() < 1e-5, "sigma {sigma}: {g} vs {r}");
             }
         }
+    }
+
+    #[test]
+    fn in_place_is_the_same_blur() {
+        let (w, h) = (31, 9);
+        let data: Vec<f32> = (0..w * h * 3).map(|i| ((i * 31) % 17) as f32).collect();
+        let want = reference(
+            &data.iter().step_by(3).copied().collect::<Vec<_>>(),
+            w,
+            h,
+            2.0,
+        );
+        let mut got = data.clone();
+        gaussian_blur_parallel_mut(&mut got, w, h, 3, 2.0);
+        for (g, r) in got.iter().step_by(3).zip(&want) {
+            assert!((g - r).abs() < 1e-4, "{g} vs {r}");
+        }
+        assert_eq!(got, gaussian_blur_parallel(&data, w, h, 3, 2.0));
     }
 
     #[test]

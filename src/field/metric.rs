@@ -18,7 +18,7 @@
 //! anti-symmetric mapping of \[HFH*04\]: eigenvectors kept, each eigenvalue λ mapped to the
 //! semi-axis `s·exp(κ·λ/max|λ|)`.
 
-use super::blur::gaussian_blur_parallel;
+use super::blur::{gaussian_blur_parallel, gaussian_blur_parallel_mut};
 use super::grid::TensorField;
 use super::tensor::Tensor;
 use crate::error::{Error, Result};
@@ -160,7 +160,7 @@ pub fn metric_from_structure(j: &TensorField, params: &MetricParams) -> TensorFi
     limit_gradation(&mut size, cols, rows, params.gradation as f32);
 
     // Anisotropy: coherence, faded out where the detail is near the noise floor.
-    let anisotropy: Vec<f32> = eigen
+    let mut anisotropy: Vec<f32> = eigen
         .par_iter()
         .zip(&detail)
         .map(|(e, &d)| {
@@ -172,8 +172,8 @@ pub fn metric_from_structure(j: &TensorField, params: &MetricParams) -> TensorFi
         .collect();
 
     let sigma = (params.smoothing * diag / spacing) as f32;
-    let size = gaussian_blur_parallel(&size, cols, rows, 1, sigma);
-    let anisotropy = gaussian_blur_parallel(&anisotropy, cols, rows, 1, sigma);
+    gaussian_blur_parallel_mut(&mut size, cols, rows, 1, sigma);
+    gaussian_blur_parallel_mut(&mut anisotropy, cols, rows, 1, sigma);
 
     let max_axis = max_px.max(min_px) * spacing;
     let data: Vec<[f32; 3]> = eigen

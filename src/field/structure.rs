@@ -7,7 +7,7 @@
 //! scale of the metric is a fraction of the image diagonal, so a 12 MP photo and its 512 px
 //! thumbnail give the same field, and the cost stays flat as photos grow.
 
-use super::blur::gaussian_blur_parallel;
+use super::blur::{gaussian_blur_parallel, gaussian_blur_parallel_mut};
 use image::DynamicImage;
 use rayon::prelude::*;
 
@@ -174,7 +174,7 @@ pub fn structure_tensor(
                 o.copy_from_slice(&t);
             }
         });
-    let j = gaussian_blur_parallel(&j, w, h, 3, integration_sigma);
+    gaussian_blur_parallel_mut(&mut j, w, h, 3, integration_sigma);
     j.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }
 

@@ -203,8 +203,8 @@ impl BlurredPhoto {
         let factor = analysis_factor(w, h, 1024);
         let mut image = linear_analysis_image(photo, factor);
         let diagonal = ((image.width * image.width + image.height * image.height) as f32).sqrt();
-        image.data = crate::field::blur::gaussian_blur_parallel(
-            &image.data,
+        crate::field::blur::gaussian_blur_parallel_mut(
+            &mut image.data,
             image.width,
             image.height,
             3,
