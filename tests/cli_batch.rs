@@ -132,7 +132,7 @@ fn unwritable_output_folder_stops_before_painting() {
             .arg(&out)
             .assert()
             .code(2);
-        let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+        let stderr = common::stderr_of(&run);
         assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
         assert!(stderr.contains("not-a-folder"), "{stderr}");
     }
@@ -247,7 +247,7 @@ fn temporary_files_of_killed_runs_are_removed_others_kept() {
         .arg(&out)
         .assert()
         .success();
-    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    let stderr = common::stderr_of(&run);
     if Path::new("/proc/self").exists() {
         assert!(!stale.exists(), "a dead process's file is removed");
         assert!(stderr.contains("removed 1 temporary file"), "{stderr}");

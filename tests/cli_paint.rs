@@ -2,6 +2,8 @@
 //! file, `extends`, `--set`, the default output name beside the input, byte-identical output
 //! for a seed, and one-line errors (exit 2) for bad presets.
 
+mod common;
+
 use assert_cmd::Command;
 
 fn bin() -> Command {
@@ -249,7 +251,7 @@ fn verbose_prints_stage_timings_and_quiet_prints_nothing() {
         .arg(&out)
         .assert()
         .success();
-    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    let stderr = common::stderr_of(&run);
     let line = stderr
         .lines()
         .find(|l| l.starts_with("timings:"))

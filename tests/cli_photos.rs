@@ -192,7 +192,7 @@ fn unwritable_output_folder_fails_cleanly() {
         .arg(&out)
         .assert()
         .code(2);
-    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    let stderr = common::stderr_of(&run);
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
     assert!(stderr.contains("not-a-folder"), "{stderr}");
 
@@ -212,7 +212,7 @@ fn unwritable_output_folder_fails_cleanly() {
                 .arg(locked.join("cat.png"))
                 .assert()
                 .code(2);
-            let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+            let stderr = common::stderr_of(&run);
             assert!(stderr.contains("locked"), "{stderr}");
         } else {
             std::fs::remove_file(&probe).unwrap();

@@ -2,6 +2,8 @@
 //! preset (every built-in one by default), each tile a reduced copy of what `paint` makes
 //! with that preset; `--vary` sweeps one key; bad sweeps fail before any painting.
 
+mod common;
+
 use assert_cmd::Command;
 use image::RgbImage;
 
@@ -152,7 +154,7 @@ fn bad_sweeps_fail_before_painting() {
             .args(args)
             .assert()
             .code(2);
-        let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+        let stderr = common::stderr_of(&run);
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
         assert!(!out.exists());
     }

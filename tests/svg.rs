@@ -4,6 +4,8 @@
 //! ours), look like the PNG painted in the same run. Fabric has no vector form: refused
 //! before any work, nothing written.
 
+mod common;
+
 use anisopaint::field::{self, FieldOptions, Input};
 use anisopaint::render::trace::{rings, simplify, Borders};
 use anisopaint::render::{label_map, Raster, VoronoiCells};
@@ -322,7 +324,7 @@ fn fabric_has_no_vector_form() {
         .arg(dir.path().join("f.svg"))
         .assert()
         .code(2);
-    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    let stderr = common::stderr_of(&run);
     assert!(stderr.contains("no vector form"), "{stderr}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
@@ -344,7 +346,7 @@ fn an_svg_output_name_writes_the_vector_form_only() {
         .arg(dir.path().join("x.bmp"))
         .assert()
         .code(2);
-    let stderr = String::from_utf8_lossy(&run.get_output().stderr).to_string();
+    let stderr = common::stderr_of(&run);
     assert!(stderr.contains(".bmp"), "{stderr}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }

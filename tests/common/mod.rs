@@ -92,3 +92,8 @@ pub fn make_unreadable(path: &std::path::Path) -> bool {
         false
     }
 }
+
+/// What a finished command printed on standard error.
+pub fn stderr_of(run: &assert_cmd::assert::Assert) -> String {
+    String::from_utf8_lossy(&run.get_output().stderr).to_string()
+}
