@@ -7,8 +7,9 @@
 //! Run: `cargo bench --bench paint` (about six minutes).
 
 use anisopaint::batch::{self, Item};
-use anisopaint::field::{FieldOptions, Input};
-use anisopaint::style::{self, PaintRecord, Preset, BUILT_IN};
+use anisopaint::input::{FieldOptions, Input};
+use anisopaint::paint::{self, PaintRecord, Recipe};
+use anisopaint::style::{self, Preset, BUILT_IN};
 use criterion::{criterion_group, criterion_main, Criterion};
 use image::imageops::FilterType;
 use std::path::{Path, PathBuf};
@@ -27,20 +28,16 @@ fn photo(dir: &Path, source: &str, w: u32, h: u32, name: &str) -> PathBuf {
 
 /// What `anisopaint paint INPUT -s STYLE -o OUT` does.
 fn paint_file(input: &Path, preset: &Preset, out: &Path) {
-    let options = FieldOptions {
-        metric: preset.metric().unwrap(),
-        ..FieldOptions::default()
-    };
-    let sampler = preset.sampler();
-    let img = style::paint(&Input::Photo(input.into()), &options, preset, &sampler).unwrap();
+    let recipe = Recipe::from_preset(preset, FieldOptions::default(), None).unwrap();
+    let img = paint::paint(&Input::Photo(input.into()), &recipe).unwrap();
     let record = PaintRecord {
         input: input.display().to_string(),
         style: preset.name.clone(),
         preset: preset.name.clone(),
         sets: Vec::new(),
-        seed: sampler.seed,
+        seed: recipe.sampler.seed,
     };
-    style::save_painting(out, &img, &record).unwrap();
+    paint::save_painting(out, &img, &record).unwrap();
 }
 
 fn paint_benches(c: &mut Criterion) {

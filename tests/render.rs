@@ -4,7 +4,8 @@
 //! reference pictures compared with a per-channel tolerance (`REGENERATE=1` rewrites them; on
 //! a mismatch a diff picture is written next to the reference).
 
-use anisopaint::field::{self, FieldOptions, Input, TensorField};
+use anisopaint::field::TensorField;
+use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::render::{self, label_map, Look, Raster, RenderSize, VoronoiCells};
 use anisopaint::sampling::{self, SamplerParams, Sampling};
 use image::{DynamicImage, RgbImage};
@@ -16,7 +17,7 @@ fn analytic(spec: &str, w: usize, h: usize) -> TensorField {
         analytic_size: Some((w, h)),
         ..FieldOptions::default()
     };
-    field::load_field(&input, &options).unwrap().metric
+    input::load_field(&input, &options).unwrap().metric
 }
 
 fn sampled(field: &TensorField) -> Sampling {
@@ -79,7 +80,7 @@ fn label_map_agrees_with_brute_force_on_photos_and_fields() {
         "samples/coffee.png",
         "samples/astronaut.jpg",
     ] {
-        let loaded = field::load_field(&Input::parse(photo).unwrap(), &FieldOptions::default());
+        let loaded = input::load_field(&Input::parse(photo).unwrap(), &FieldOptions::default());
         cases.push((photo.into(), loaded.unwrap().metric));
     }
     for (name, field) in cases {
@@ -363,7 +364,7 @@ fn brush_strokes_over_an_underpainting_leave_no_paper() {
     use anisopaint::render::glyphs::{GlyphParams, Shape};
     let photo = image::open("samples/chelsea.png").unwrap();
     let input = Input::Photo("samples/chelsea.png".into());
-    let field = field::load_field(&input, &FieldOptions::default())
+    let field = input::load_field(&input, &FieldOptions::default())
         .unwrap()
         .metric;
     let s = sampled(&field);

@@ -3,7 +3,8 @@
 //! on a raster, spade's own Delaunay triangulation as the oracle for the anisotropic one, and
 //! random placement and the seed alone as baselines that must score clearly worse.
 
-use anisopaint::field::{self, AnalyticField, FieldOptions, Input, Tensor, TensorField};
+use anisopaint::field::{AnalyticField, Tensor, TensorField};
+use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::sampling::{
     self, quality, rng::Rng, seeding, AnisotropicDelaunay, SamplerParams, Sampling,
 };
@@ -22,7 +23,7 @@ fn analytic(spec: &str, w: usize, h: usize) -> TensorField {
 
 fn photo_metric(path: &str) -> TensorField {
     let options = FieldOptions::default();
-    field::load_field(&Input::parse(path).unwrap(), &options)
+    input::load_field(&Input::parse(path).unwrap(), &options)
         .unwrap()
         .metric
 }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use anisopaint::field::{self, FieldOptions, Input};
+use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::render::trace::{rings, simplify, Borders};
 use anisopaint::render::{label_map, Raster, VoronoiCells};
 use anisopaint::sampling::{self, SamplerParams};
@@ -21,7 +21,7 @@ fn bin() -> Command {
 #[test]
 fn traced_cells_reproduce_the_label_map() {
     let input = Input::parse("samples/chelsea.png").unwrap();
-    let loaded = field::load_field(&input, &FieldOptions::default()).unwrap();
+    let loaded = input::load_field(&input, &FieldOptions::default()).unwrap();
     let field = &loaded.metric;
     let s = sampling::sample(field, &SamplerParams::default()).unwrap();
     let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);

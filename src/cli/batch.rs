@@ -3,7 +3,8 @@
 
 use super::bars;
 use crate::error::Result;
-use crate::field::{FieldOptions, Input};
+use crate::input::{FieldOptions, Input};
+use crate::paint::{save_painting, PaintRecord, Recipe};
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -71,15 +72,7 @@ pub(super) fn batch(args: &BatchArgs) -> Result<usize> {
     use crate::batch::{check_output_dir, parse_shard, plan, run, Outcome};
     let mut preset = crate::style::load(&args.style)?;
     crate::style::apply_sets(&mut preset, &args.sets)?;
-    let options = FieldOptions {
-        metric: preset.metric()?,
-        ..FieldOptions::default()
-    };
-    let mut sampler = preset.sampler();
-    if let Some(seed) = args.seed {
-        sampler.seed = seed;
-    }
-    preset.look()?;
+    let recipe = Recipe::from_preset(&preset, FieldOptions::default(), args.seed)?;
     let shard = match &args.shard {
         Some(s) => parse_shard(s)?,
         None => (1, 1),
@@ -105,15 +98,15 @@ pub(super) fn batch(args: &BatchArgs) -> Result<usize> {
         args.force,
         |item| {
             let input = Input::Photo(item.input.clone());
-            let img = crate::style::paint(&input, &options, &preset, &sampler)?;
-            let record = crate::style::PaintRecord {
+            let img = crate::paint::paint(&input, &recipe)?;
+            let record = PaintRecord {
                 input: item.input.display().to_string(),
                 style: args.style.clone(),
                 preset: preset.name.clone(),
                 sets: args.sets.clone(),
-                seed: sampler.seed,
+                seed: recipe.sampler.seed,
             };
-            crate::style::save_painting(&item.output, &img, &record)
+            save_painting(&item.output, &img, &record)
         },
         |k, outcome, took| {
             let n = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;

@@ -1,13 +1,19 @@
-//! The commands that expose the chain's stages one by one: `field` (the metric of an input),
-//! `sample` (the anisotropic sampling, with its quality report) and `render` (a look drawn
-//! from samples, optionally reused from a file).
+//! The commands that expose the paint pipeline's stages one by one: `field` (the metric of an
+//! input), `sample` (the anisotropic sampling, with its quality report) and `render` (a look
+//! drawn from samples, optionally reused from a file, and the label map of its cells). Each
+//! takes `-s STYLE` and `--set` like `paint`, so a preset's metric, samples and cells can be
+//! exported and studied; without `-s` the library's defaults are used. The stages run through
+//! [`crate::paint`], the chain `paint` itself uses.
 
 use super::bars::StageBars;
-use super::{check_output, check_raster_format, is_svg, write_svg, InputArgs, VerbosityArgs};
+use super::{
+    check_output, check_raster_format, is_svg, write_svg, InputArgs, PresetArgs, VerbosityArgs,
+};
 use crate::error::{Error, Result};
-use crate::field;
+use crate::input;
+use crate::paint::{self, Extras, Recipe, Samples};
 use crate::progress::{timed, Stage};
-use crate::render::{field_preview, PreviewMode};
+use crate::render::{field_preview, PreviewMode, RenderSize};
 use clap::{Args, ValueEnum};
 use image::DynamicImage;
 use std::path::PathBuf;
@@ -18,7 +24,7 @@ Examples:
   anisopaint render samples/chelsea.png --look crosshatch -o ink.png --scale 2
   anisopaint sample photo.jpg --out s.csv && anisopaint render photo.jpg --samples s.csv --look hatch -o h.png
   anisopaint render analytic:two-point-load --width 600 --height 400 --look fabric -o load.png
-  anisopaint render photo.jpg --look mosaic -o m.png --labels labels.npy
+  anisopaint render photo.jpg -s pen-hatch -o ink.png --labels labels.npy   # a preset's cells
   anisopaint render photo.jpg --look glyphs --placement grid -o grid-glyphs.png
   anisopaint render photo.jpg --look hatch --texture my-tile.png -o tiled.png";
 
@@ -26,16 +32,19 @@ Examples:
 pub(super) struct RenderArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// The look.
-    #[arg(long, default_value = "mosaic", value_parser = clap::builder::PossibleValuesParser::new(crate::render::Look::NAMES))]
-    look: String,
+    #[command(flatten)]
+    preset: PresetArgs,
+    /// The look, over the preset's (mosaic without a preset).
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(crate::render::Look::NAMES))]
+    look: Option<String>,
     /// Output image (PNG or JPEG).
     #[arg(short, long)]
     out: PathBuf,
     /// Reuse samples written by `sample --out` instead of sampling again.
     #[arg(long)]
     samples: Option<PathBuf>,
-    /// Also write the label map: int32 .npy (H, W), the samples.csv row owning each pixel.
+    /// Also write the label map of the cells as drawn: int32 .npy (H, W), the samples.csv row
+    /// owning each output pixel.
     #[arg(long)]
     labels: Option<PathBuf>,
     /// Also write the picture as SVG: glyphs as ellipses, cells as traced polygons in their
@@ -48,22 +57,23 @@ pub(super) struct RenderArgs {
     /// Output width in pixels (the height follows the input's aspect).
     #[arg(long)]
     out_width: Option<usize>,
-    /// Raster points per pixel along each axis, used where a cell border crosses the pixel.
-    #[arg(long, default_value_t = 2)]
-    supersample: usize,
+    /// Raster points per pixel along each axis, used where a cell border crosses the pixel
+    /// [default: the preset's, 2].
+    #[arg(long)]
+    supersample: Option<usize>,
     /// For the textured looks: fill cells with this greyscale PNG tile (dark = ink) instead.
     #[arg(long)]
     texture: Option<PathBuf>,
     /// For --look glyphs: where the glyphs go (grid and random reproduce the paper's
-    /// comparison with the relaxed samples).
-    #[arg(long, value_enum, default_value_t = PlacementArg::Relaxed)]
-    placement: PlacementArg,
-    /// Seed of the sampler.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Maximum number of relaxation iterations of the sampler.
-    #[arg(long, default_value_t = 100)]
-    iterations: usize,
+    /// comparison with the relaxed samples) [default: the preset's, relaxed].
+    #[arg(long, value_enum)]
+    placement: Option<PlacementArg>,
+    /// Seed of the sampler [default: the preset's, 0].
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Maximum number of relaxation iterations of the sampler [default: the preset's, 100].
+    #[arg(long)]
+    iterations: Option<usize>,
     #[command(flatten)]
     verbosity: VerbosityArgs,
 }
@@ -73,6 +83,7 @@ Examples:
   anisopaint sample samples/astronaut.jpg --preview glyphs.png --report
   anisopaint sample analytic:constant:angle=30,anisotropy=4,size=0.01 --out s.csv --triangles t.csv
   anisopaint sample photo.jpg --iterations 300 --seed 7 --report-json report.json
+  anisopaint sample photo.jpg -s pointillist --out dots.csv --report    # a preset's samples
   anisopaint sample analytic:degenerate-point --compare";
 
 pub(super) const FIELD_EXAMPLES: &str = "\
@@ -80,7 +91,8 @@ Examples:
   anisopaint field samples/astronaut.png --preview astronaut-field.png
   anisopaint field photo.jpg --out metric.npy --preview-mode orientation --preview dirs.png
   anisopaint field analytic:two-point-load --width 600 --height 400 --preview load.png
-  anisopaint field stress.npy --tensor general --out metric.npy";
+  anisopaint field stress.npy --tensor general --out metric.npy
+  anisopaint field photo.jpg -s engraving --set metric.max_size=0.02 --out m.npy";
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub(super) enum PlacementArg {
@@ -99,6 +111,8 @@ pub(super) enum PreviewArg {
 pub(super) struct FieldArgs {
     #[command(flatten)]
     input: InputArgs,
+    #[command(flatten)]
+    preset: PresetArgs,
     /// Write the metric as float32 .npy (H, W, 3) of (m11, m12, m22), at the input's size.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -117,20 +131,23 @@ pub(super) struct FieldArgs {
 pub(super) struct SampleArgs {
     #[command(flatten)]
     input: InputArgs,
+    #[command(flatten)]
+    preset: PresetArgs,
     /// Write the samples as CSV: x,y,m11,m12,m22 in pixels.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Write the anisotropic Delaunay triangles as CSV: a,b,c (rows of --out).
     #[arg(long)]
     triangles: Option<PathBuf>,
-    /// Maximum number of relaxation iterations.
-    #[arg(long, default_value_t = 100)]
-    iterations: usize,
-    /// Seed of the random numbers: the same seed gives the same samples.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
+    /// Maximum number of relaxation iterations [default: the preset's, 100].
+    #[arg(long)]
+    iterations: Option<usize>,
+    /// Seed of the random numbers: the same seed gives the same samples [default: the
+    /// preset's, 0].
+    #[arg(long)]
+    seed: Option<u64>,
     /// Repair the triangulation and control the population every this many iterations.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = crate::sampling::SamplerParams::default().repair_every)]
     repair_every: usize,
     /// Refuse fields that need more samples than this.
     #[arg(long, default_value_t = crate::sampling::DEFAULT_MAX_SAMPLES)]
@@ -161,11 +178,12 @@ pub(super) struct SampleArgs {
 }
 
 pub(super) fn run_field(args: &FieldArgs) -> Result<()> {
-    let (input, options) = args.input.plan()?;
+    let (input, mut options) = args.input.plan()?;
+    options.metric = args.preset.load()?.metric()?;
     for out in args.out.iter().chain(&args.preview) {
         check_output(&input, out)?;
     }
-    let loaded = field::load_field(&input, &options)?;
+    let loaded = input::load_field(&input, &options)?;
     if let Some(out) = &args.out {
         let which = if args.raw {
             &loaded.raw
@@ -189,7 +207,9 @@ pub(super) fn run_field(args: &FieldArgs) -> Result<()> {
 
 pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
     use crate::sampling::{self, quality, report, SamplerParams};
-    let (input, options) = args.input.plan()?;
+    let (input, mut options) = args.input.plan()?;
+    let preset = args.preset.load()?;
+    options.metric = preset.metric()?;
     let json_path = args.report_json.as_ref().filter(|p| p.as_os_str() != "-");
     for out in [&args.out, &args.triangles, &args.preview]
         .into_iter()
@@ -198,10 +218,10 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
     {
         check_output(&input, out)?;
     }
-    let defaults = SamplerParams::default();
+    let defaults = preset.sampler();
     let params = SamplerParams {
-        iterations: args.iterations,
-        seed: args.seed,
+        iterations: args.iterations.unwrap_or(defaults.iterations),
+        seed: args.seed.unwrap_or(defaults.seed),
         repair_every: args.repair_every,
         max_samples: args.max_samples,
         insert_fill_rate: args.insert_fill_rate.unwrap_or(defaults.insert_fill_rate),
@@ -212,7 +232,7 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
         ..defaults
     };
     let bars = StageBars::new(args.verbosity.get());
-    let loaded = field::load_field_observed(&input, &options, &bars)?;
+    let loaded = input::load_field_observed(&input, &options, &bars)?;
     let field = &loaded.metric;
     let result = sampling::sample_observed(field, &params, &bars)?;
     bars.print_timings();
@@ -276,8 +296,6 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
 }
 
 pub(super) fn run_render(args: &RenderArgs) -> Result<()> {
-    use crate::render::{render_with_svg, Look, RenderSize};
-    use crate::sampling::{self, AnisotropicDelaunay, SamplerParams};
     let (input, options) = args.input.plan()?;
     for out in std::iter::once(&args.out)
         .chain(&args.labels)
@@ -293,15 +311,54 @@ pub(super) fn run_render(args: &RenderArgs) -> Result<()> {
         check_raster_format(&args.out)?;
         args.svg.as_deref()
     };
-    if !(1..=4).contains(&args.supersample) {
-        return Err(Error::param("--supersample", "must be 1, 2, 3 or 4"));
+    let mut preset = args.preset.load()?;
+    if let Some(look) = &args.look {
+        crate::style::apply_sets(&mut preset, &[format!("look.kind={look}")])?;
     }
-    let mut look = Look::named(&args.look)
-        .ok_or_else(|| Error::param("--look", format!("unknown look {}", args.look)))?;
+    let mut recipe = Recipe::from_preset(&preset, options, args.seed)?;
+    if let Some(iterations) = args.iterations {
+        recipe.sampler.iterations = iterations;
+    }
+    if let Some(supersample) = args.supersample {
+        if !(1..=4).contains(&supersample) {
+            return Err(Error::param("--supersample", "must be 1, 2, 3 or 4"));
+        }
+        recipe.supersample = supersample;
+    }
+    apply_render_flags(args, &mut recipe.look)?;
     if svg_path.is_some() {
-        look.check_vector_form()?;
+        recipe.look.check_vector_form()?;
     }
-    match (&mut look, &args.texture) {
+    let bars = StageBars::new(args.verbosity.get());
+    let loaded = input::load_field_observed(&input, &recipe.field, &bars)?;
+    let field = &loaded.metric;
+    let size = output_size(args, field.domain(), recipe.supersample)?;
+    let samples = match &args.samples {
+        Some(path) => read_samples(path, field)?,
+        None => paint::sample(field, &recipe.sampler, &bars)?,
+    };
+    let extras = Extras {
+        svg: svg_path.is_some(),
+        labels: args.labels.is_some(),
+    };
+    let painting = paint::draw(&loaded, &samples, &recipe.look, size, extras, &bars)?;
+    if let (Some(path), Some(labels)) = (&args.labels, &painting.labels) {
+        crate::io::write_labels_npy(path, labels, size.width, size.height)?;
+    }
+    timed(&bars, Stage::Writing, || -> Result<()> {
+        if !svg_only {
+            crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(painting.image))?;
+        }
+        write_svg(svg_path, painting.svg.as_deref())
+    })?;
+    bars.print_timings();
+    Ok(())
+}
+
+/// `--texture` and `--placement` over the preset's look.
+fn apply_render_flags(args: &RenderArgs, look: &mut crate::render::Look) -> Result<()> {
+    use crate::render::Look;
+    match (&mut *look, &args.texture) {
         (Look::Texture(params), Some(path)) => {
             let tile = crate::io::read_photo(path)?.to_luma8();
             params.kind = crate::render::texture::TextureKind::Image(tile);
@@ -314,19 +371,19 @@ pub(super) fn run_render(args: &RenderArgs) -> Result<()> {
         }
         _ => {}
     }
-    if let Look::Glyphs(params) = &mut look {
+    if let (Look::Glyphs(params), Some(placement)) = (look, args.placement) {
         use crate::render::glyphs::Placement;
-        params.placement = match args.placement {
+        params.placement = match placement {
             PlacementArg::Relaxed => Placement::Relaxed,
             PlacementArg::Grid => Placement::Grid,
             PlacementArg::Random => Placement::Random,
         };
-        params.seed = args.seed;
     }
-    let bars = StageBars::new(args.verbosity.get());
-    let loaded = field::load_field_observed(&input, &options, &bars)?;
-    let field = &loaded.metric;
-    let domain = field.domain();
+    Ok(())
+}
+
+/// The output size `--scale` or `--out-width` ask for (the input's by default).
+fn output_size(args: &RenderArgs, domain: glam::DVec2, supersample: usize) -> Result<RenderSize> {
     let scale = match (args.scale, args.out_width) {
         (Some(s), _) => s,
         (None, Some(w)) => w as f64 / domain.x,
@@ -344,78 +401,43 @@ pub(super) fn run_render(args: &RenderArgs) -> Result<()> {
             ),
         ));
     }
-    let (positions, metrics, mesh) = match &args.samples {
-        Some(path) => {
-            let (positions, metrics) = crate::io::read_samples_csv(path)?;
-            if let Some(p) = positions
-                .iter()
-                .find(|p| !(p.x >= 0.0 && p.y >= 0.0 && p.x <= domain.x && p.y <= domain.y))
-            {
-                return Err(Error::param(
-                    "--samples",
-                    format!(
-                        "{}: sample ({}, {}) lies outside the input's {}x{} domain",
-                        path.display(),
-                        p.x,
-                        p.y,
-                        domain.x,
-                        domain.y
-                    ),
-                ));
-            }
-            let (mesh, missing) = AnisotropicDelaunay::build(&positions, field);
-            if !missing.is_empty() {
-                return Err(Error::param(
-                    "--samples",
-                    format!("{}: {} duplicate samples", path.display(), missing.len()),
-                ));
-            }
-            (positions, metrics, mesh)
-        }
-        None => {
-            let params = SamplerParams {
-                seed: args.seed,
-                iterations: args.iterations,
-                ..SamplerParams::default()
-            };
-            let s = sampling::sample_observed(field, &params, &bars)?;
-            (s.positions, s.metrics, s.mesh)
-        }
-    };
-    let size = RenderSize {
+    Ok(RenderSize {
         width: width as usize,
         height: height as usize,
-        supersample: args.supersample,
-    };
-    if let Some(path) = &args.labels {
-        let cells = crate::render::VoronoiCells::new(&positions, &metrics, &mesh);
-        let raster = crate::render::Raster {
-            width: size.width,
-            height: size.height,
-            supersample: 1,
-            domain,
-        };
-        let labels = crate::render::label_map(&cells, &raster);
-        crate::io::write_labels_npy(path, &labels, size.width, size.height)?;
+        supersample,
+    })
+}
+
+/// Samples written by `sample --out`, checked against the field's domain and triangulated.
+fn read_samples(path: &std::path::Path, field: &crate::field::TensorField) -> Result<Samples> {
+    let domain = field.domain();
+    let (positions, metrics) = crate::io::read_samples_csv(path)?;
+    if let Some(p) = positions
+        .iter()
+        .find(|p| !(p.x >= 0.0 && p.y >= 0.0 && p.x <= domain.x && p.y <= domain.y))
+    {
+        return Err(Error::param(
+            "--samples",
+            format!(
+                "{}: sample ({}, {}) lies outside the input's {}x{} domain",
+                path.display(),
+                p.x,
+                p.y,
+                domain.x,
+                domain.y
+            ),
+        ));
     }
-    let (img, svg) = timed(&bars, Stage::Rendering, || {
-        render_with_svg(
-            &look,
-            &positions,
-            &metrics,
-            &mesh,
-            field,
-            loaded.photo.as_ref(),
-            size,
-            svg_path.is_some(),
-        )
-    })?;
-    timed(&bars, Stage::Writing, || -> Result<()> {
-        if !svg_only {
-            crate::io::save_image(&args.out, &DynamicImage::ImageRgb8(img))?;
-        }
-        write_svg(svg_path, svg.as_deref())
-    })?;
-    bars.print_timings();
-    Ok(())
+    let (mesh, missing) = crate::sampling::AnisotropicDelaunay::build(&positions, field);
+    if !missing.is_empty() {
+        return Err(Error::param(
+            "--samples",
+            format!("{}: {} duplicate samples", path.display(), missing.len()),
+        ));
+    }
+    Ok(Samples {
+        positions,
+        metrics,
+        mesh,
+    })
 }

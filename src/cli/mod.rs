@@ -17,7 +17,7 @@ use paint::{
 };
 
 use crate::error::{Error, Result};
-use crate::field::{self, FieldOptions, Input, TensorKind};
+use crate::input::{self, FieldOptions, Input, TensorKind};
 use bars::Verbosity;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::ffi::OsString;
@@ -105,6 +105,30 @@ impl VerbosityArgs {
     }
 }
 
+/// The preset an explore command (`field`, `sample`, `render`) takes its parameters from.
+#[derive(Debug, Args)]
+struct PresetArgs {
+    /// A built-in preset or a .toml file whose metric, sampler and look this command uses
+    /// [default: the library's defaults].
+    #[arg(short, long)]
+    style: Option<String>,
+    /// Override one preset key for this run, e.g. --set metric.max_anisotropy=6 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+}
+
+impl PresetArgs {
+    /// The preset named (or the defaults) with the overrides applied.
+    fn load(&self) -> Result<crate::style::Preset> {
+        let mut preset = match &self.style {
+            Some(style) => crate::style::load(style)?,
+            None => crate::style::Preset::defaults(),
+        };
+        crate::style::apply_sets(&mut preset, &self.sets)?;
+        Ok(preset)
+    }
+}
+
 /// Options shared by every command that reads an input.
 #[derive(Debug, Args)]
 struct InputArgs {
@@ -187,7 +211,7 @@ impl InputArgs {
         let analytic_size = match (&input, self.width, self.height) {
             (_, None, None) => None,
             (Input::Analytic(_), w, h) => {
-                let (dw, dh) = field::DEFAULT_ANALYTIC_SIZE;
+                let (dw, dh) = input::DEFAULT_ANALYTIC_SIZE;
                 Some((w.unwrap_or(dw), h.unwrap_or(dh)))
             }
             _ => {

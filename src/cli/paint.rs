@@ -5,7 +5,8 @@
 use super::bars::{self, StageBars};
 use super::{check_output, check_raster_format, is_svg, write_svg, InputArgs, VerbosityArgs};
 use crate::error::{Error, Result};
-use crate::field::Input;
+use crate::input::Input;
+use crate::paint::{paint_observed, save_painting, Extras, PaintRecord, Recipe};
 use crate::progress::{timed, Stage};
 use clap::{Args, Subcommand};
 use image::DynamicImage;
@@ -141,14 +142,10 @@ pub(super) fn run_styles(args: &StylesArgs) -> Result<()> {
 }
 
 pub(super) fn run_paint(args: &PaintArgs) -> Result<()> {
-    let (input, mut options) = args.input.plan()?;
+    let (input, options) = args.input.plan()?;
     let mut preset = crate::style::load(&args.style)?;
     crate::style::apply_sets(&mut preset, &args.sets)?;
-    options.metric = preset.metric()?;
-    let mut sampler = preset.sampler();
-    if let Some(seed) = args.seed {
-        sampler.seed = seed;
-    }
+    let recipe = Recipe::from_preset(&preset, options, args.seed)?;
     let out = match &args.out {
         Some(out) => out.clone(),
         None => default_output(&input, &preset.name),
@@ -166,24 +163,21 @@ pub(super) fn run_paint(args: &PaintArgs) -> Result<()> {
         check_output(&input, svg)?;
     }
     let bars = StageBars::new(args.verbosity.get());
-    let painting = crate::style::paint_observed(
-        &input,
-        &options,
-        &preset,
-        &sampler,
-        svg_path.is_some(),
-        &bars,
-    )?;
-    let record = crate::style::PaintRecord {
+    let extras = Extras {
+        svg: svg_path.is_some(),
+        labels: false,
+    };
+    let painting = paint_observed(&input, &recipe, extras, &bars)?;
+    let record = PaintRecord {
         input: args.input.input.clone(),
         style: args.style.clone(),
         preset: preset.name.clone(),
         sets: args.sets.clone(),
-        seed: sampler.seed,
+        seed: recipe.sampler.seed,
     };
     timed(&bars, Stage::Writing, || -> Result<()> {
         if !svg_only {
-            crate::style::save_painting(&out, &painting.image, &record)?;
+            save_painting(&out, &painting.image, &record)?;
         }
         write_svg(svg_path, painting.svg.as_deref())
     })?;
@@ -192,7 +186,8 @@ pub(super) fn run_paint(args: &PaintArgs) -> Result<()> {
 }
 
 pub(super) fn run_sheet(args: &SheetArgs) -> Result<()> {
-    use crate::style::sheet::{paint_sheet, variants, SheetOptions};
+    use crate::paint::{paint_sheet, SheetOptions};
+    use crate::style::sheet::variants;
     let (input, options) = args.input.plan()?;
     check_output(&input, &args.out)?;
     let styles: Vec<String> = match (&args.style[..], &args.vary) {

@@ -16,7 +16,7 @@
 //! Values are `f32`; the noise and the first pass are kept as bytes to hold memory down.
 
 use super::colour::{anisotropy_colour, linear_of, Linear};
-use super::look::Scene;
+use super::scene::Scene;
 use crate::field::TensorField;
 use glam::DVec2;
 use image::RgbImage;

@@ -4,7 +4,7 @@
 //! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
 
 use super::colour::{anisotropy_colour, linear_of, to_srgb, Linear};
-use super::look::Scene;
+use super::scene::Scene;
 use crate::field::Tensor;
 use crate::sampling::rng::Rng;
 use glam::DVec2;

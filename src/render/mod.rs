@@ -13,13 +13,15 @@ pub mod glyphs;
 pub mod look;
 pub mod mosaic;
 pub mod preview;
+pub mod scene;
 pub mod sheet;
 pub mod svg;
 pub mod texture;
 pub mod trace;
 pub mod voronoi;
 
-pub use look::{Look, Scene};
+pub use look::Look;
+pub use scene::Scene;
 pub use preview::{ellipses_preview, field_preview, PreviewMode};
 pub use voronoi::{label_map, Owner, Raster, VoronoiCells};
 

@@ -8,7 +8,7 @@
 //! upper left (GEGL's mosaic has a bevel of the same kind). Shading is `f32` in linear light.
 
 use super::colour::{mix, site_hash, to_srgb, Linear};
-use super::look::Scene;
+use super::scene::Scene;
 use super::voronoi::Owner;
 use glam::DVec2;
 use image::RgbImage;

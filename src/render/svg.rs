@@ -12,7 +12,8 @@
 
 use super::colour::{linear_of, mix, site_hash, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
-use super::look::{Look, Scene};
+use super::look::Look;
+use super::scene::Scene;
 use super::texture::{cell_tones, smoothstep, spacing, Frame, Ink, TextureKind, TextureParams};
 use super::trace::{rings, simplify, Borders};
 use super::voronoi::label_map;

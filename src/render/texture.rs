@@ -10,7 +10,7 @@
 //! is defined (paper Figure 6), keeping the mean tone. Shading is `f32` in linear light.
 
 use super::colour::{lightness, linear_of, mix, site_hash, Linear};
-use super::look::Scene;
+use super::scene::Scene;
 use super::mosaic::border_coverage;
 use glam::DVec2;
 use image::{GrayImage, RgbImage};

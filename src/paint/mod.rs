@@ -1,0 +1,186 @@
+//! The paint pipeline: the one chain every command and every library user goes through.
+//!
+//! input → [`field`](crate::field) (structure tensor → metric, paper sections 3-4) →
+//! [`sampling`](crate::sampling) (seeding, force spline, anisotropic Delaunay, population
+//! control, section 5) → [`render`](crate::render) (generalized Voronoi cells, section 6, and a
+//! look, section 7). A [`Recipe`] is what a preset decides for that chain; [`paint`] runs it on
+//! an input, [`paint_loaded`] on a field already loaded, and [`draw`] draws a look from samples
+//! already made (the `render` command reuses samples written by `sample`). [`record`] writes
+//! paintings with how they were made; [`sheet`] paints contact sheets.
+
+pub mod record;
+pub mod sheet;
+
+pub use record::{save_painting, PaintRecord};
+pub use sheet::{paint_sheet, SheetOptions};
+
+use crate::error::Result;
+use crate::field::{Tensor, TensorField};
+use crate::input::{FieldOptions, Input, LoadedField};
+use crate::progress::{timed, Observer, Silent, Stage};
+use crate::render::{label_map, render_with_svg, Look, Raster, RenderSize, VoronoiCells};
+use crate::sampling::{AnisotropicDelaunay, SamplerParams};
+use crate::style::Preset;
+use glam::DVec2;
+use image::RgbImage;
+
+/// Everything that decides a painting besides its input: how the input becomes a metric, how
+/// the metric is sampled, and the look drawn from the samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recipe {
+    /// Input → metric.
+    pub field: FieldOptions,
+    /// The sampler.
+    pub sampler: SamplerParams,
+    /// The look and its parameters.
+    pub look: Look,
+    /// Raster points per pixel along each axis where a cell border crosses the pixel.
+    pub supersample: usize,
+}
+
+impl Recipe {
+    /// The recipe of `preset`: its metric, sampler and look over `field`'s other options
+    /// (how `.npy` files are read, the analytic domain), with `seed` over the preset's.
+    pub fn from_preset(preset: &Preset, field: FieldOptions, seed: Option<u64>) -> Result<Recipe> {
+        let mut sampler = preset.sampler();
+        if let Some(seed) = seed {
+            sampler.seed = seed;
+        }
+        let mut look = preset.look()?;
+        if let (Look::Glyphs(glyphs), Some(seed)) = (&mut look, seed) {
+            glyphs.seed = seed; // random placement follows the seed too
+        }
+        Ok(Recipe {
+            field: FieldOptions {
+                metric: preset.metric()?,
+                ..field
+            },
+            sampler,
+            look,
+            supersample: preset.supersample(),
+        })
+    }
+}
+
+/// The samples a look is drawn from.
+#[derive(Clone, Debug)]
+pub struct Samples {
+    /// Sample positions in pixels of the input.
+    pub positions: Vec<DVec2>,
+    /// The metric at each sample.
+    pub metrics: Vec<Tensor>,
+    /// Their anisotropic Delaunay triangulation.
+    pub mesh: AnisotropicDelaunay,
+}
+
+/// What [`draw`] makes besides the raster picture.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Extras {
+    /// The SVG form of the picture.
+    pub svg: bool,
+    /// The label map of the cells as drawn.
+    pub labels: bool,
+}
+
+/// A painting, and what else was asked for.
+#[derive(Clone, Debug)]
+pub struct Painting {
+    /// The raster picture.
+    pub image: RgbImage,
+    /// The SVG document of the same picture.
+    pub svg: Option<String>,
+    /// For every output pixel (row-major), the index of the sample whose cell holds it, or -1.
+    pub labels: Option<Vec<i32>>,
+}
+
+/// Paints `input` with `recipe`: the whole chain, silently.
+pub fn paint(input: &Input, recipe: &Recipe) -> Result<RgbImage> {
+    Ok(paint_observed(input, recipe, Extras::default(), &Silent)?.image)
+}
+
+/// [`paint`] with `extras`, reporting every stage to `observer`. A look without a vector form
+/// fails before any work when the SVG is asked for.
+pub fn paint_observed(
+    input: &Input,
+    recipe: &Recipe,
+    extras: Extras,
+    observer: &dyn Observer,
+) -> Result<Painting> {
+    if extras.svg {
+        recipe.look.check_vector_form()?;
+    }
+    let loaded = crate::input::load_field_observed(input, &recipe.field, observer)?;
+    paint_loaded(&loaded, recipe, extras, observer)
+}
+
+/// Sampling and look of a field already loaded (`recipe.field` is not read again), at the
+/// field's size.
+pub fn paint_loaded(
+    loaded: &LoadedField,
+    recipe: &Recipe,
+    extras: Extras,
+    observer: &dyn Observer,
+) -> Result<Painting> {
+    let samples = sample(&loaded.metric, &recipe.sampler, observer)?;
+    let size = field_size(&loaded.metric, recipe.supersample);
+    draw(loaded, &samples, &recipe.look, size, extras, observer)
+}
+
+/// The samples of `field`.
+pub fn sample(
+    field: &TensorField,
+    params: &SamplerParams,
+    observer: &dyn Observer,
+) -> Result<Samples> {
+    let s = crate::sampling::sample_observed(field, params, observer)?;
+    Ok(Samples {
+        positions: s.positions,
+        metrics: s.metrics,
+        mesh: s.mesh,
+    })
+}
+
+/// The output size of a painting at the field's own size.
+#[must_use]
+pub fn field_size(field: &TensorField, supersample: usize) -> RenderSize {
+    let d = field.domain();
+    RenderSize {
+        width: d.x.round().max(1.0) as usize,
+        height: d.y.round().max(1.0) as usize,
+        supersample,
+    }
+}
+
+/// Draws `look` from `samples` of `loaded` at `size`, with `extras`.
+pub fn draw(
+    loaded: &LoadedField,
+    samples: &Samples,
+    look: &Look,
+    size: RenderSize,
+    extras: Extras,
+    observer: &dyn Observer,
+) -> Result<Painting> {
+    let labels = extras.labels.then(|| {
+        let cells = VoronoiCells::new(&samples.positions, &samples.metrics, &samples.mesh);
+        let raster = Raster {
+            width: size.width,
+            height: size.height,
+            supersample: 1,
+            domain: loaded.metric.domain(),
+        };
+        label_map(&cells, &raster)
+    });
+    let (image, svg) = timed(observer, Stage::Rendering, || {
+        render_with_svg(
+            look,
+            &samples.positions,
+            &samples.metrics,
+            &samples.mesh,
+            &loaded.metric,
+            loaded.photo.as_ref(),
+            size,
+            extras.svg,
+        )
+    })?;
+    Ok(Painting { image, svg, labels })
+}

@@ -1,0 +1,217 @@
+//! A preset's keys converted into the library's parameters: [`MetricParams`] (photo → metric,
+//! paper sections 3-4), [`SamplerParams`] (section 5) and the [`Look`] with its parameters
+//! (sections 6-7). Keys a look does not use are ignored; numeric keys are clamped to the
+//! ranges their looks accept; colours, shapes and placements are parsed with errors naming the
+//! key.
+
+use super::preset::{Preset, BUILT_IN_TEXTURES};
+use crate::error::{Error, Result};
+use crate::field::MetricParams;
+use crate::render::fabric::FabricParams;
+use crate::render::glyphs::{GlyphParams, Placement, Shape};
+use crate::render::mosaic::MosaicParams;
+use crate::render::texture::{Ink, TextureKind, TextureParams};
+use crate::render::Look;
+use crate::sampling::SamplerParams;
+use std::path::{Path, PathBuf};
+
+/// `ellipse`, `rectangle`, `brush` or `superquadric:P` → the glyph outline.
+fn glyph_shape(v: &str) -> Result<Shape> {
+    let bad = || {
+        Error::param(
+            "look.shape",
+            format!("{v}: expected ellipse, rectangle, brush or superquadric:P (P > 0)"),
+        )
+    };
+    Ok(match v {
+        "ellipse" => Shape::Ellipse,
+        "rectangle" => Shape::Rectangle,
+        "brush" => Shape::Brush,
+        other => {
+            let power: f32 = other
+                .strip_prefix("superquadric:")
+                .and_then(|p| p.parse().ok())
+                .ok_or_else(bad)?;
+            if !(power > 0.0 && power.is_finite()) {
+                return Err(bad());
+            }
+            Shape::Superquadric(power)
+        }
+    })
+}
+
+/// `#rrggbb` (or `rrggbb`) → bytes; errors name `key`.
+fn colour(key: &str, v: &str) -> Result<[u8; 3]> {
+    let hex = v.strip_prefix('#').unwrap_or(v);
+    let bad = || Error::param(key, format!("{v}: expected #rrggbb"));
+    if hex.len() != 6 {
+        return Err(bad());
+    }
+    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_err(|_| bad());
+    Ok([byte(0)?, byte(2)?, byte(4)?])
+}
+
+impl Preset {
+    /// The metric parameters: defaults with the preset's keys.
+    pub fn metric(&self) -> Result<MetricParams> {
+        let m = &self.file.metric;
+        let d = MetricParams::default();
+        let p = MetricParams {
+            min_size: m.min_size.unwrap_or(d.min_size),
+            max_size: m.max_size.unwrap_or(d.max_size),
+            max_anisotropy: m.max_anisotropy.unwrap_or(d.max_anisotropy),
+            gradation: m.gradation.unwrap_or(d.gradation),
+            smoothing: m.smoothing.unwrap_or(d.smoothing),
+            detail_quantile: m.detail_quantile.unwrap_or(d.detail_quantile),
+            ..d
+        };
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// The sampler parameters.
+    #[must_use]
+    pub fn sampler(&self) -> SamplerParams {
+        let s = &self.file.sampler;
+        let d = SamplerParams::default();
+        SamplerParams {
+            iterations: s.iterations.unwrap_or(d.iterations),
+            seed: s.seed.unwrap_or(d.seed),
+            ..d
+        }
+    }
+
+    /// Raster points per pixel at cell borders (default 2).
+    #[must_use]
+    pub fn supersample(&self) -> usize {
+        self.file.look.supersample.unwrap_or(2).clamp(1, 4)
+    }
+
+    /// The look with the preset's parameters.
+    pub fn look(&self) -> Result<Look> {
+        let l = &self.file.look;
+        let kind = l.kind.as_deref().unwrap_or("mosaic");
+        let mut look = Look::named(kind).ok_or_else(|| {
+            Error::param(
+                "look.kind",
+                format!("{kind}: expected one of {}", Look::NAMES.join(", ")),
+            )
+        })?;
+        match &mut look {
+            Look::Mosaic(p) => self.mosaic(p)?,
+            Look::Texture(p) => self.texture(p)?,
+            Look::Glyphs(p) => self.glyphs(p)?,
+            Look::Fabric(p) => self.fabric(p),
+        }
+        Ok(look)
+    }
+
+    fn mosaic(&self, p: &mut MosaicParams) -> Result<()> {
+        let l = &self.file.look;
+        p.border_width = l.border_width.unwrap_or(p.border_width).max(0.0);
+        if let Some(c) = &l.border_colour {
+            p.border_colour = colour("look.border_colour", c)?;
+        }
+        p.relief = l.relief.unwrap_or(p.relief).clamp(0.0, 1.0);
+        p.jitter = l.jitter.unwrap_or(p.jitter).clamp(0.0, 1.0);
+        Ok(())
+    }
+
+    fn texture(&self, p: &mut TextureParams) -> Result<()> {
+        let l = &self.file.look;
+        p.lines_per_cell = l.lines_per_cell.unwrap_or(p.lines_per_cell).max(0.1);
+        p.min_spacing_px = l.min_spacing_px.unwrap_or(p.min_spacing_px).max(0.5);
+        p.gamma = l.gamma.unwrap_or(p.gamma).clamp(0.05, 20.0);
+        p.fade_anisotropy = l.fade_anisotropy.unwrap_or(p.fade_anisotropy).max(0.0);
+        p.border_width = l.border_width.unwrap_or(p.border_width).max(0.0);
+        if let Some(c) = &l.paper {
+            p.paper = colour("look.paper", c)?;
+        }
+        let darken = l.ink_darken.unwrap_or(0.3).clamp(0.0, 1.0);
+        if let Some(ink) = &l.ink {
+            p.ink = match ink.as_str() {
+                "black" => Ink::Fixed([20, 18, 16]),
+                "cell" => Ink::Cell(darken),
+                "pixel" => Ink::Pixel(darken),
+                other => Ink::Fixed(colour("look.ink", other)?),
+            };
+        }
+        if let Some(tile) = &l.texture {
+            p.kind = TextureKind::Image(self.texture_tile(tile)?);
+        }
+        Ok(())
+    }
+
+    /// The tile `look.texture` names: a file beside the preset (or an absolute path), else a
+    /// built-in texture of that name.
+    fn texture_tile(&self, tile: &Path) -> Result<image::GrayImage> {
+        let path = match &self.dir {
+            Some(dir) if tile.is_relative() => dir.join(tile),
+            _ => tile.to_path_buf(),
+        };
+        if path.exists() {
+            return Ok(crate::io::read_photo(&path)?.to_luma8());
+        }
+        let built_in = BUILT_IN_TEXTURES
+            .iter()
+            .find(|(name, _)| Path::new(name) == tile);
+        match built_in {
+            Some((name, bytes)) => Ok(image::load_from_memory(bytes)
+                .map_err(|e| Error::Decode {
+                    path: PathBuf::from(name),
+                    reason: e.to_string(),
+                })?
+                .to_luma8()),
+            None => {
+                let names: Vec<&str> = BUILT_IN_TEXTURES.iter().map(|(n, _)| *n).collect();
+                Err(Error::param(
+                    "look.texture",
+                    format!(
+                        "{}: no such file, and not a built-in texture ({})",
+                        path.display(),
+                        names.join(", ")
+                    ),
+                ))
+            }
+        }
+    }
+
+    fn glyphs(&self, p: &mut GlyphParams) -> Result<()> {
+        let l = &self.file.look;
+        p.scale = l.glyph_scale.unwrap_or(p.scale).clamp(0.05, 4.0);
+        p.outline_width = l.outline_width.unwrap_or(p.outline_width).max(0.0);
+        if let Some(c) = &l.background {
+            p.background = colour("look.background", c)?;
+        }
+        if let Some(c) = &l.border_colour {
+            p.outline = colour("look.border_colour", c)?;
+        }
+        if let Some(place) = &l.placement {
+            p.placement = match place.as_str() {
+                "relaxed" => Placement::Relaxed,
+                "grid" => Placement::Grid,
+                "random" => Placement::Random,
+                other => {
+                    return Err(Error::param(
+                        "look.placement",
+                        format!("{other}: expected relaxed, grid or random"),
+                    ))
+                }
+            };
+        }
+        if let Some(shape) = &l.shape {
+            p.shape = glyph_shape(shape)?;
+        }
+        p.underpaint = l.underpaint.unwrap_or(p.underpaint);
+        p.seed = self.sampler().seed;
+        Ok(())
+    }
+
+    fn fabric(&self, p: &mut FabricParams) {
+        let l = &self.file.look;
+        p.kernel_px = l.kernel_px.unwrap_or(p.kernel_px).clamp(1.0, 100.0);
+        p.cross_weight = l.cross_weight.unwrap_or(p.cross_weight).clamp(0.0, 1.0);
+        p.thickness = l.thickness.unwrap_or(p.thickness).clamp(0.01, 2.0);
+        p.contrast = l.contrast.unwrap_or(p.contrast).clamp(0.0, 1.0);
+    }
+}

@@ -1,0 +1,284 @@
+//! Presets as files: the TOML sections `[metric]`, `[sampler]` and `[look]` of optional keys,
+//! the built-in presets and textures compiled in from `styles/`, loading down an `extends`
+//! chain, and `--set key.path=value` overrides checked like preset lines. Every section
+//! accepts only its own keys (serde's `deny_unknown_fields`): an unknown key or a wrong type
+//! is an error naming the file, line and column and, for an unknown key, the valid ones.
+
+use crate::error::{Error, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// The built-in presets: name and TOML text.
+pub const BUILT_IN: [(&str, &str); 9] = [
+    ("mosaic", include_str!("../../styles/mosaic.toml")),
+    ("pen-hatch", include_str!("../../styles/pen-hatch.toml")),
+    ("crosshatch", include_str!("../../styles/crosshatch.toml")),
+    ("strokes", include_str!("../../styles/strokes.toml")),
+    ("pointillist", include_str!("../../styles/pointillist.toml")),
+    ("glyphs", include_str!("../../styles/glyphs.toml")),
+    ("fabric", include_str!("../../styles/fabric.toml")),
+    ("lic", include_str!("../../styles/lic.toml")),
+    ("engraving", include_str!("../../styles/engraving.toml")),
+];
+
+/// The built-in textures (`styles/textures/`): file name and PNG bytes. A preset's
+/// `look.texture` is looked for beside the preset file first, then here.
+pub const BUILT_IN_TEXTURES: [(&str, &[u8]); 1] = [(
+    "engraving.png",
+    include_bytes!("../../styles/textures/engraving.png"),
+)];
+
+/// The preset `paint` uses when none is given.
+pub const DEFAULT_STYLE: &str = "mosaic";
+
+/// A preset as written: every key optional, so a preset that extends another says only what
+/// it changes.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PresetFile {
+    /// One line saying what the preset looks like.
+    pub description: Option<String>,
+    /// The preset this one changes (a built-in name or a path).
+    pub extends: Option<String>,
+    /// Photo → metric.
+    #[serde(default)]
+    pub metric: MetricSection,
+    /// The sampler.
+    #[serde(default)]
+    pub sampler: SamplerSection,
+    /// The look and its parameters.
+    #[serde(default)]
+    pub look: LookSection,
+}
+
+/// `[metric]`: see [`MetricParams`](crate::field::MetricParams) for the meaning of each key.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct MetricSection {
+    pub min_size: Option<f64>,
+    pub max_size: Option<f64>,
+    pub max_anisotropy: Option<f64>,
+    pub gradation: Option<f64>,
+    pub smoothing: Option<f64>,
+    pub detail_quantile: Option<f64>,
+}
+
+/// `[sampler]`.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SamplerSection {
+    /// Maximum relaxation iterations.
+    pub iterations: Option<usize>,
+    /// Seed.
+    pub seed: Option<u64>,
+}
+
+/// `[look]`: `kind` picks the renderer; the other keys are its parameters (a key another
+/// kind uses is accepted and ignored, so a preset can switch kind with one key).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct LookSection {
+    /// mosaic, hatch, crosshatch, line, stroke, stipple, glyphs, fabric or lic.
+    pub kind: Option<String>,
+    pub supersample: Option<usize>,
+    pub border_width: Option<f32>,
+    pub border_colour: Option<String>,
+    pub relief: Option<f32>,
+    pub jitter: Option<f32>,
+    pub lines_per_cell: Option<f32>,
+    pub min_spacing_px: Option<f32>,
+    /// "black", "cell", "pixel" or "#rrggbb".
+    pub ink: Option<String>,
+    pub ink_darken: Option<f32>,
+    pub paper: Option<String>,
+    pub gamma: Option<f32>,
+    pub fade_anisotropy: Option<f32>,
+    /// A greyscale PNG tile (dark = ink), relative to the preset file.
+    pub texture: Option<PathBuf>,
+    pub placement: Option<String>,
+    /// Glyph outline: "ellipse", "rectangle", "brush" or "superquadric:P".
+    pub shape: Option<String>,
+    /// Paint the cells in their colours under the glyphs.
+    pub underpaint: Option<bool>,
+    pub glyph_scale: Option<f32>,
+    pub outline_width: Option<f32>,
+    pub background: Option<String>,
+    pub kernel_px: Option<f32>,
+    pub cross_weight: Option<f32>,
+    pub thickness: Option<f32>,
+    pub contrast: Option<f32>,
+}
+
+/// A preset resolved down its `extends` chain, with its name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Preset {
+    /// The name it was asked by (built-in name or file stem).
+    pub name: String,
+    /// Every key of the chain, the most specific winning.
+    pub file: PresetFile,
+    /// The folder relative paths (textures) are taken from; `None` for built-ins.
+    pub dir: Option<PathBuf>,
+}
+
+impl Preset {
+    /// The preset of no file: every key at the library's default (a mosaic). The explore
+    /// commands use it when no `-s` is given.
+    #[must_use]
+    pub fn defaults() -> Preset {
+        Preset {
+            name: "defaults".into(),
+            file: PresetFile::default(),
+            dir: None,
+        }
+    }
+}
+
+/// Parses preset text; errors name `origin`, the line and the column.
+pub fn parse(text: &str, origin: &str) -> Result<PresetFile> {
+    toml::from_str(text).map_err(|e| {
+        let (line, column) = e
+            .span()
+            .map(|s| line_column(text, s.start))
+            .unwrap_or((1, 1));
+        Error::param(
+            format!("style {origin}:{line}:{column}"),
+            e.message().replace('\n', " "),
+        )
+    })
+}
+
+/// 1-based line and column of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// The text of the built-in preset `name`.
+#[must_use]
+pub fn built_in(name: &str) -> Option<&'static str> {
+    BUILT_IN.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
+/// Loads `style` (a built-in name, or a path to a `.toml` file), following `extends`.
+pub fn load(style: &str) -> Result<Preset> {
+    load_chain(style, 0)
+}
+
+fn load_chain(style: &str, depth: usize) -> Result<Preset> {
+    if depth > 8 {
+        return Err(Error::param(
+            "extends",
+            format!("{style}: chain deeper than 8 (a loop?)"),
+        ));
+    }
+    let (name, text, dir) = match built_in(style) {
+        Some(text) => (style.to_string(), text.to_string(), None),
+        None => {
+            let path = Path::new(style);
+            if !(style.ends_with(".toml") || path.exists()) {
+                let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+                return Err(Error::param(
+                    "style",
+                    format!("unknown style {style}; built-in: {}", names.join(", ")),
+                ));
+            }
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+            let name = path
+                .file_stem()
+                .map_or_else(|| style.to_string(), |s| s.to_string_lossy().into_owned());
+            (name, text, path.parent().map(Path::to_path_buf))
+        }
+    };
+    let file = parse(&text, style)?;
+    let file = match &file.extends {
+        Some(base) => {
+            let base = load_chain(base, depth + 1)?;
+            merge(base.file, file)
+        }
+        None => file,
+    };
+    Ok(Preset { name, file, dir })
+}
+
+/// Applies `key.path=value` overrides, each checked like a preset line.
+pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
+    for set in sets {
+        let Some((key, value)) = set.split_once('=') else {
+            return Err(Error::param(
+                "--set",
+                format!("{set}: expected key.path=value"),
+            ));
+        };
+        let (key, value) = (key.trim(), value.trim());
+        let Some((section, field)) = key.split_once('.') else {
+            return Err(Error::param(
+                "--set",
+                format!("{key}: expected section.key (metric, sampler or look)"),
+            ));
+        };
+        // A value that is not valid TOML (a bare word) is taken as a string.
+        let value = if toml::from_str::<toml::Table>(&format!("v = {value}")).is_ok() {
+            value.to_string()
+        } else {
+            format!("{value:?}")
+        };
+        let text = format!("[{section}]\n{field} = {value}\n");
+        let over = parse(&text, &format!("--set {set}"))?;
+        preset.file = merge(preset.file.clone(), over);
+    }
+    Ok(())
+}
+
+/// `over`'s keys over `base`'s.
+#[must_use]
+pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
+    let m = (base.metric, over.metric);
+    let s = (base.sampler, over.sampler);
+    let (b, o) = (base.look, over.look);
+    PresetFile {
+        description: over.description.or(base.description),
+        extends: None,
+        metric: MetricSection {
+            min_size: m.1.min_size.or(m.0.min_size),
+            max_size: m.1.max_size.or(m.0.max_size),
+            max_anisotropy: m.1.max_anisotropy.or(m.0.max_anisotropy),
+            gradation: m.1.gradation.or(m.0.gradation),
+            smoothing: m.1.smoothing.or(m.0.smoothing),
+            detail_quantile: m.1.detail_quantile.or(m.0.detail_quantile),
+        },
+        sampler: SamplerSection {
+            iterations: s.1.iterations.or(s.0.iterations),
+            seed: s.1.seed.or(s.0.seed),
+        },
+        look: LookSection {
+            kind: o.kind.or(b.kind),
+            supersample: o.supersample.or(b.supersample),
+            border_width: o.border_width.or(b.border_width),
+            border_colour: o.border_colour.or(b.border_colour),
+            relief: o.relief.or(b.relief),
+            jitter: o.jitter.or(b.jitter),
+            lines_per_cell: o.lines_per_cell.or(b.lines_per_cell),
+            min_spacing_px: o.min_spacing_px.or(b.min_spacing_px),
+            ink: o.ink.or(b.ink),
+            ink_darken: o.ink_darken.or(b.ink_darken),
+            paper: o.paper.or(b.paper),
+            gamma: o.gamma.or(b.gamma),
+            fade_anisotropy: o.fade_anisotropy.or(b.fade_anisotropy),
+            texture: o.texture.or(b.texture),
+            shape: o.shape.or(b.shape),
+            underpaint: o.underpaint.or(b.underpaint),
+            placement: o.placement.or(b.placement),
+            glyph_scale: o.glyph_scale.or(b.glyph_scale),
+            outline_width: o.outline_width.or(b.outline_width),
+            background: o.background.or(b.background),
+            kernel_px: o.kernel_px.or(b.kernel_px),
+            cross_weight: o.cross_weight.or(b.cross_weight),
+            thickness: o.thickness.or(b.thickness),
+            contrast: o.contrast.or(b.contrast),
+        },
+    }
+}
