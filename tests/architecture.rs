@@ -194,7 +194,7 @@ fn graph() -> BTreeMap<ModPath, BTreeSet<ModPath>> {
             // The longest prefix that is a module file.
             let Some(n) = (0..=path.len())
                 .rev()
-                .find(|&n| modules.contains(&path[..n].to_vec()))
+                .find(|&n| modules.contains(&path[..n]))
             else {
                 continue;
             };
@@ -261,14 +261,22 @@ fn top_level_modules_import_only_lower_layers() {
             }
             match layer_of.get(t.as_str()) {
                 Some(&lt) if lt < lf => {}
-                Some(_) => wrong.push(format!("{} uses {} (same or higher layer)", from.join("::"), to.join("::"))),
+                Some(_) => wrong.push(format!(
+                    "{} uses {} (same or higher layer)",
+                    from.join("::"),
+                    to.join("::")
+                )),
                 None => wrong.push(format!("{t} is not placed in ARCHITECTURE.md's layers")),
             }
         }
     }
     wrong.sort();
     wrong.dedup();
-    assert!(wrong.is_empty(), "imports against the layers:\n{}", wrong.join("\n"));
+    assert!(
+        wrong.is_empty(),
+        "imports against the layers:\n{}",
+        wrong.join("\n")
+    );
 }
 
 #[test]
@@ -325,8 +333,14 @@ fn the_checker_sees_imports() {
     let has = |from: &[&str], to: &[&str]| {
         edges(from).contains(&to.iter().map(|s| s.to_string()).collect::<Vec<_>>())
     };
-    assert!(has(&["render", "mosaic"], &["render", "scene"]), "super:: path");
-    assert!(has(&["io"], &["field", "grid"]), "crate:: path through a re-export");
+    assert!(
+        has(&["render", "mosaic"], &["render", "scene"]),
+        "super:: path"
+    );
+    assert!(
+        has(&["io"], &["field", "grid"]),
+        "crate:: path through a re-export"
+    );
     assert!(has(&["input"], &["io"]), "crate:: path");
     // A cycle in a made-up graph is found.
     let a = code_of("use crate::x::y; // crate::z\nlet s = \"crate::w\";\n");

@@ -4,7 +4,7 @@
 //! reference pictures compared with a per-channel tolerance (`REGENERATE=1` rewrites them; on
 //! a mismatch a diff picture is written next to the reference).
 
-use anisopaint::field::TensorField;
+use anisopaint::field::{self, TensorField};
 use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::render::{self, label_map, Look, Raster, RenderSize, VoronoiCells};
 use anisopaint::sampling::{self, SamplerParams, Sampling};

@@ -3,7 +3,7 @@
 //! on a raster, spade's own Delaunay triangulation as the oracle for the anisotropic one, and
 //! random placement and the seed alone as baselines that must score clearly worse.
 
-use anisopaint::field::{AnalyticField, Tensor, TensorField};
+use anisopaint::field::{self, AnalyticField, Tensor, TensorField};
 use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::sampling::{
     self, quality, rng::Rng, seeding, AnisotropicDelaunay, SamplerParams, Sampling,

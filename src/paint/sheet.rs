@@ -52,7 +52,12 @@ pub fn paint_sheet(
             Some(p) => crate::input::photo_field(p.clone(), &recipe.field.metric),
             None => crate::input::load_field(input, &recipe.field)?,
         };
-        let painting = paint_loaded(&loaded, &recipe, Extras::default(), &crate::progress::Silent)?;
+        let painting = paint_loaded(
+            &loaded,
+            &recipe,
+            Extras::default(),
+            &crate::progress::Silent,
+        )?;
         let image = painting.image;
         let tile_height = (f64::from(sheet.tile_width) * f64::from(image.height())
             / f64::from(image.width()))

@@ -3,7 +3,8 @@
 //! of the photo under it), and a colour map for fields without a photo. Linear values are
 //! `f32` in [0, 1]; encoded values are `u8`.
 
-use super::voronoi::{Raster, VoronoiCells, NONE};
+use super::raster::{owner_map, Raster};
+use super::voronoi::{VoronoiCells, NONE};
 use crate::field::Tensor;
 use image::DynamicImage;
 use rayon::prelude::*;
@@ -115,12 +116,7 @@ pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
         supersample: 1,
         domain: glam::DVec2::new((w * stride) as f64, (h * stride) as f64),
     };
-    let mut labels = vec![NONE; w * h];
-    cells.shade_rows(&raster, &mut labels, w, |_, owners, row| {
-        for (l, o) in row.iter_mut().zip(owners) {
-            *l = o.site;
-        }
-    });
+    let labels = owner_map(cells, &raster);
 
     let block_rows = h.div_ceil(SUM_BLOCKS).max(1);
     let partial: Vec<Vec<[f64; 4]>> = labels

@@ -13,6 +13,7 @@ pub mod glyphs;
 pub mod look;
 pub mod mosaic;
 pub mod preview;
+pub mod raster;
 pub mod scene;
 pub mod sheet;
 pub mod svg;
@@ -21,9 +22,10 @@ pub mod trace;
 pub mod voronoi;
 
 pub use look::Look;
-pub use scene::Scene;
 pub use preview::{ellipses_preview, field_preview, PreviewMode};
-pub use voronoi::{label_map, Owner, Raster, VoronoiCells};
+pub use raster::{label_map, owner_map, Raster};
+pub use scene::Scene;
+pub use voronoi::{Owner, VoronoiCells};
 
 use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;

@@ -4,7 +4,8 @@
 //! import this file; it imports none of them.
 
 use super::colour::{anisotropy_colours, cell_means, to_srgb, Linear};
-use super::voronoi::{Owner, Raster, VoronoiCells, BORDER_EXACT_PX, NONE};
+use super::raster::Raster;
+use super::voronoi::{Owner, VoronoiCells, BORDER_EXACT_PX, NONE};
 use crate::field::TensorField;
 use glam::DVec2;
 use image::{DynamicImage, RgbImage};

@@ -13,10 +13,10 @@
 use super::colour::{linear_of, mix, site_hash, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
+use super::raster::label_map;
 use super::scene::Scene;
 use super::texture::{cell_tones, smoothstep, spacing, Frame, Ink, TextureKind, TextureParams};
 use super::trace::{rings, simplify, Borders};
-use super::voronoi::label_map;
 use crate::error::Result;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::fmt::Write;

@@ -10,8 +10,8 @@
 //! is defined (paper Figure 6), keeping the mean tone. Shading is `f32` in linear light.
 
 use super::colour::{lightness, linear_of, mix, site_hash, Linear};
-use super::scene::Scene;
 use super::mosaic::border_coverage;
+use super::scene::Scene;
 use glam::DVec2;
 use image::{GrayImage, RgbImage};
 

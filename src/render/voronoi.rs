@@ -11,9 +11,8 @@
 //! the paper's "orphans") the result differs from a brute-force search over all sites; tests
 //! measure how often.
 //!
-//! A [`Raster`] places `supersample²` points in every output pixel; [`VoronoiCells::shade_rows`]
-//! hands each output row its points' [`Owner`]s, band by band, so memory stays a few rows deep
-//! whatever the image size. [`VoronoiCells::border_gradient`] gives the first-order distance
+//! [`raster`](super::raster) finds the owners of every pixel of an output image.
+//! [`VoronoiCells::border_gradient`] gives the first-order distance
 //! from a point to its cell's border, which lets looks supersample only the pixels a border
 //! crosses. Positions and distances are `f64` (sites carry `f64` metrics);
 //! the per-point record is `f32`, enough for shading.
@@ -25,55 +24,6 @@ use rayon::prelude::*;
 
 /// No site / no triangle.
 pub const NONE: u32 = u32::MAX;
-
-/// Where the raster points of an output image lie in the field's domain.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Raster {
-    /// Output width in pixels.
-    pub width: usize,
-    /// Output height in pixels.
-    pub height: usize,
-    /// Raster points per pixel along each axis (1 = pixel centres only).
-    pub supersample: usize,
-    /// Size of the domain the sites live in (pixels of the input).
-    pub domain: DVec2,
-}
-
-impl Raster {
-    /// Raster points per row.
-    #[must_use]
-    pub fn points_per_row(&self) -> usize {
-        self.width * self.supersample
-    }
-
-    /// Raster point rows.
-    #[must_use]
-    pub fn point_rows(&self) -> usize {
-        self.height * self.supersample
-    }
-
-    /// Domain units per raster point along x and y.
-    #[must_use]
-    pub fn step(&self) -> DVec2 {
-        DVec2::new(
-            self.domain.x / self.points_per_row() as f64,
-            self.domain.y / self.point_rows() as f64,
-        )
-    }
-
-    /// The domain position of raster point (`gx`, `gy`).
-    #[must_use]
-    pub fn point(&self, gx: usize, gy: usize) -> DVec2 {
-        let s = self.step();
-        DVec2::new((gx as f64 + 0.5) * s.x, (gy as f64 + 0.5) * s.y)
-    }
-
-    /// Output pixels per domain unit (the geometric mean of x and y).
-    #[must_use]
-    pub fn pixels_per_unit(&self) -> f64 {
-        ((self.width as f64 / self.domain.x) * (self.height as f64 / self.domain.y)).sqrt()
-    }
-}
 
 /// The owner of one raster point: the nearest site and the runner-up among the candidates,
 /// with their distances `δ`.
@@ -93,6 +43,18 @@ pub struct Owner {
     /// [`Scene`](super::Scene) has measured it (infinite otherwise, and when farther than
     /// [`BORDER_EXACT_PX`]).
     pub border_px: f32,
+}
+
+impl Owner {
+    /// No owner: no site, no candidate, infinitely far.
+    pub const NOBODY: Owner = Owner {
+        site: NONE,
+        second: NONE,
+        delta: f32::INFINITY,
+        delta2: f32::INFINITY,
+        triangle: NONE,
+        border_px: f32::INFINITY,
+    };
 }
 
 /// Border distances up to this many output pixels are measured to first order; farther ones
@@ -198,6 +160,12 @@ impl<'a> VoronoiCells<'a> {
         self.positions
     }
 
+    /// The anisotropic Delaunay triangulation the candidates come from.
+    #[must_use]
+    pub fn mesh(&self) -> &AnisotropicDelaunay {
+        self.mesh
+    }
+
     /// The sites' metrics.
     #[must_use]
     pub fn metrics(&self) -> &[Tensor] {
@@ -286,128 +254,6 @@ impl<'a> VoronoiCells<'a> {
             border_px: f32::INFINITY,
         }
     }
-
-    /// Calls `shade(y, owners, row)` for every output row `y` of `out` (rows of `row_len`
-    /// values, `raster.height` of them), in parallel bands. `owners` holds the row's
-    /// `supersample` rows of raster points, `raster.points_per_row()` each.
-    pub fn shade_rows<P, F>(&self, raster: &Raster, out: &mut [P], row_len: usize, shade: F)
-    where
-        P: Send,
-        F: Fn(usize, &[Owner], &mut [P]) + Sync,
-    {
-        let ss = raster.supersample.max(1);
-        let band_rows = BAND_ROWS;
-        let bands = raster.height.div_ceil(band_rows).max(1);
-        let lists = self.band_lists(raster, band_rows * ss, bands);
-        out.par_chunks_mut(row_len * band_rows)
-            .zip(lists.par_iter())
-            .enumerate()
-            .for_each(|(band, (chunk, list))| {
-                let first_point_row = band * band_rows * ss;
-                let rows_here = chunk.len() / row_len.max(1);
-                let mut tri = vec![NONE; rows_here * ss * raster.points_per_row()];
-                self.rasterise(raster, list, first_point_row, &mut tri);
-                let mut owners = vec![
-                    Owner {
-                        site: NONE,
-                        second: NONE,
-                        delta: f32::INFINITY,
-                        delta2: f32::INFINITY,
-                        triangle: NONE,
-                        border_px: f32::INFINITY,
-                    };
-                    ss * raster.points_per_row()
-                ];
-                for (k, row) in chunk.chunks_mut(row_len).enumerate() {
-                    let per_row = ss * raster.points_per_row();
-                    let tris = &tri[k * per_row..(k + 1) * per_row];
-                    for (j, o) in owners.iter_mut().enumerate() {
-                        let gy = first_point_row + k * ss + j / raster.points_per_row();
-                        let gx = j % raster.points_per_row();
-                        let p = raster.point(gx, gy);
-                        *o = match self.triangle_near(tris, j, raster.points_per_row()) {
-                            Some(t) => self.owner_in_triangle(t, p),
-                            None => self.owner_brute_force(p),
-                        };
-                    }
-                    shade(band * band_rows + k, &owners, row);
-                }
-            });
-    }
-
-    /// The triangle at point `j` of a row block, or the nearest one found on its own point
-    /// row (a point can fall between two triangles by rounding); `None` if the row has none.
-    fn triangle_near(&self, tris: &[u32], j: usize, per_row: usize) -> Option<usize> {
-        if tris[j] != NONE {
-            return Some(tris[j] as usize);
-        }
-        let start = j - j % per_row;
-        let row = &tris[start..start + per_row];
-        let x = j - start;
-        (1..per_row)
-            .flat_map(|d| [x.checked_sub(d), Some(x + d)])
-            .flatten()
-            .filter(|&i| i < per_row)
-            .map(|i| row[i])
-            .find(|&t| t != NONE)
-            .map(|t| t as usize)
-    }
-
-    /// For every band of `rows_per_band` raster point rows, the triangles that reach it.
-    fn band_lists(&self, raster: &Raster, rows_per_band: usize, bands: usize) -> Vec<Vec<u32>> {
-        let step = raster.step();
-        let mut lists = vec![Vec::new(); bands];
-        for (t, [a, b, c]) in self.mesh.triangles().enumerate() {
-            let ys = [a, b, c].map(|v| self.positions[v as usize].y / step.y - 0.5);
-            let lo = ys
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min)
-                .floor()
-                .max(0.0);
-            let hi = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max).ceil();
-            if hi < 0.0 {
-                continue;
-            }
-            let first = (lo as usize) / rows_per_band;
-            let last = ((hi as usize) / rows_per_band).min(bands - 1);
-            for list in &mut lists[first.min(bands - 1)..=last] {
-                list.push(t as u32);
-            }
-        }
-        lists
-    }
-
-    /// Writes each triangle of `list` into the raster points it covers, for the point rows
-    /// `first_row..` that `tri` (whole rows of points) holds.
-    fn rasterise(&self, raster: &Raster, list: &[u32], first_row: usize, tri: &mut [u32]) {
-        let per_row = raster.points_per_row();
-        let rows = tri.len() / per_row.max(1);
-        let step = raster.step();
-        for &t in list {
-            let [a, b, c] = self.mesh.triangle(t as usize);
-            // In raster point units, where point (gx, gy) sits at (gx + ½, gy + ½).
-            let v = [a, b, c].map(|i| self.positions[i as usize] / step - DVec2::splat(0.5));
-            let y_lo = v.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-            let y_hi = v.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
-            let r0 = (y_lo.ceil().max(first_row as f64)) as usize;
-            let r1 = (y_hi.floor() as i64).min((first_row + rows) as i64 - 1);
-            for gy in r0 as i64..=r1 {
-                let y = gy as f64;
-                let Some((x0, x1)) = span(&v, y) else {
-                    continue;
-                };
-                // A hair wider than the exact span, so shared edges leave no gaps.
-                let lo = (x0 - 1e-9).ceil().max(0.0) as usize;
-                let hi = (x1 + 1e-9).floor().min(per_row as f64 - 1.0);
-                if hi < 0.0 || (lo as f64) > hi {
-                    continue;
-                }
-                let row = (gy as usize - first_row) * per_row;
-                tri[row + lo..=row + hi as usize].fill(t);
-            }
-        }
-    }
 }
 
 /// The nearest and second-nearest of `(site, distance)` pairs (`NONE` and infinity where
@@ -426,91 +272,4 @@ fn nearest_two(sites: impl Iterator<Item = (u32, f64)>) -> ((u32, f64), (u32, f6
         }
     }
     (best, second)
-}
-
-/// Rows of output pixels per parallel band.
-const BAND_ROWS: usize = 16;
-
-/// The x-interval where the horizontal line at `y` crosses the triangle `v`.
-fn span(v: &[DVec2; 3], y: f64) -> Option<(f64, f64)> {
-    let mut lo = f64::INFINITY;
-    let mut hi = f64::NEG_INFINITY;
-    for i in 0..3 {
-        let (p, q) = (v[i], v[(i + 1) % 3]);
-        if !((p.y <= y && y <= q.y) || (q.y <= y && y <= p.y)) {
-            continue;
-        }
-        let (a, b) = if p.y == q.y {
-            (p.x, q.x)
-        } else {
-            let x = p.x + (q.x - p.x) * (y - p.y) / (q.y - p.y);
-            (x, x)
-        };
-        lo = lo.min(a.min(b));
-        hi = hi.max(a.max(b));
-    }
-    (lo <= hi).then_some((lo, hi))
-}
-
-/// The label map: the owning site of every pixel centre (`raster.supersample` is ignored),
-/// row-major, as `i32` for export (`.npy`).
-#[must_use]
-pub fn label_map(cells: &VoronoiCells, raster: &Raster) -> Vec<i32> {
-    let raster = Raster {
-        supersample: 1,
-        ..*raster
-    };
-    let mut labels = vec![-1i32; raster.width * raster.height];
-    cells.shade_rows(&raster, &mut labels, raster.width, |_, owners, row| {
-        for (l, o) in row.iter_mut().zip(owners) {
-            *l = if o.site == NONE { -1 } else { o.site as i32 };
-        }
-    });
-    labels
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::field::AnalyticField;
-    use crate::sampling::{self, SamplerParams};
-
-    #[test]
-    fn spans_of_a_triangle() {
-        let v = [
-            DVec2::new(0.0, 0.0),
-            DVec2::new(4.0, 0.0),
-            DVec2::new(0.0, 4.0),
-        ];
-        assert_eq!(span(&v, 2.0), Some((0.0, 2.0)));
-        assert_eq!(span(&v, 5.0), None);
-        assert_eq!(span(&v, 0.0), Some((0.0, 4.0)));
-    }
-
-    #[test]
-    fn label_map_matches_brute_force_on_a_constant_field() {
-        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.02")
-            .unwrap()
-            .field(120, 90);
-        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
-        let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
-        for (w, h) in [(120, 90), (61, 47), (1, 9), (9, 1)] {
-            let raster = Raster {
-                width: w,
-                height: h,
-                supersample: 1,
-                domain: field.domain(),
-            };
-            let labels = label_map(&cells, &raster);
-            let mut agree = 0;
-            for y in 0..h {
-                for x in 0..w {
-                    let o = cells.owner_brute_force(raster.point(x, y));
-                    agree += usize::from(labels[y * w + x] == o.site as i32);
-                }
-            }
-            let rate = agree as f64 / (w * h) as f64;
-            assert!(rate >= 0.995, "{w}x{h}: {rate}");
-        }
-    }
 }

@@ -26,69 +26,14 @@ const FLIPS_PER_EDGE: usize = 8;
 /// The anisotropic Delaunay triangulation of a set of points (indices into the caller's arrays).
 #[derive(Clone, Debug, Default)]
 pub struct AnisotropicDelaunay {
-    origin: Vec<u32>,
-    twin: Vec<u32>,
+    /// The vertex each half-edge leaves.
+    pub(super) origin: Vec<u32>,
+    /// The opposite half-edge, or [`NONE`] on the hull.
+    pub(super) twin: Vec<u32>,
     /// Flips done since the mesh was built (all legalisations).
     pub flips: u64,
     /// Legalisations stopped by the flip cap.
     pub cap_hits: u64,
-}
-
-/// The edges of a mesh: `ends[e]` are edge `e`'s vertices; the edges at vertex `v` are
-/// `incident[offsets[v]..offsets[v + 1]]`, each `e << 1 | side` with side 0 when `v` is
-/// `ends[e][0]` and 1 when it is `ends[e][1]`.
-#[derive(Clone, Debug, Default)]
-pub struct Edges {
-    /// The two vertices of each edge.
-    pub ends: Vec<[u32; 2]>,
-    /// Row starts into `incident`, one per vertex plus one.
-    pub offsets: Vec<u32>,
-    /// Edge index and side, per vertex.
-    pub incident: Vec<u32>,
-}
-
-impl Edges {
-    /// The edge structure of `ends` over `num_vertices` vertices.
-    #[must_use]
-    pub fn from_ends(ends: Vec<[u32; 2]>, num_vertices: usize) -> Edges {
-        let mut offsets = vec![0u32; num_vertices + 1];
-        for [a, b] in &ends {
-            offsets[*a as usize + 1] += 1;
-            offsets[*b as usize + 1] += 1;
-        }
-        for i in 1..offsets.len() {
-            offsets[i] += offsets[i - 1];
-        }
-        let mut fill = offsets.clone();
-        let mut incident = vec![0u32; 2 * ends.len()];
-        for (e, [a, b]) in ends.iter().enumerate() {
-            for (side, v) in [(0u32, *a), (1, *b)] {
-                incident[fill[v as usize] as usize] = (e as u32) << 1 | side;
-                fill[v as usize] += 1;
-            }
-        }
-        Edges {
-            ends,
-            offsets,
-            incident,
-        }
-    }
-
-    /// The edges at vertex `v` (its one-ring) as (edge index, whether `v` is the edge's first
-    /// end, the other vertex), in a fixed order.
-    pub fn at(&self, v: usize) -> impl Iterator<Item = (usize, bool, u32)> + '_ {
-        self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
-            .iter()
-            .map(|&x| {
-                let e = (x >> 1) as usize;
-                let [a, b] = self.ends[e];
-                if x & 1 == 0 {
-                    (e, true, b)
-                } else {
-                    (e, false, a)
-                }
-            })
-    }
 }
 
 /// spade vertex carrying the caller's index, so the order of `bulk_load` does not matter.
@@ -105,7 +50,7 @@ impl HasPosition for Site {
 }
 
 #[inline]
-fn next(h: usize) -> usize {
+pub(super) fn next(h: usize) -> usize {
     if h % 3 == 2 {
         h - 2
     } else {
@@ -405,39 +350,6 @@ impl AnisotropicDelaunay {
         }
         self.origin = origin;
         self.twin = twin;
-    }
-
-    /// Every edge once, as its two end vertices, and for every vertex the edges it ends
-    /// (compressed rows, its one-ring): force loops compute each pair once and gather per
-    /// particle.
-    #[must_use]
-    pub fn edges(&self, num_vertices: usize) -> Edges {
-        let edge = |h: usize| {
-            (self.twin[h] == NONE || (h as u32) < self.twin[h]).then(|| {
-                let (a, b) = (self.origin[h], self.origin[next(h)]);
-                [a.min(b), a.max(b)]
-            })
-        };
-        // Grouped by their lower vertex (a counting sort, in half-edge order within a
-        // group): with spatially sorted vertices, a loop over edges reads in order.
-        let mut start = vec![0u32; num_vertices + 1];
-        for h in 0..self.origin.len() {
-            if let Some([a, _]) = edge(h) {
-                start[a as usize + 1] += 1;
-            }
-        }
-        for i in 1..start.len() {
-            start[i] += start[i - 1];
-        }
-        let mut ends = vec![[0u32; 2]; start[num_vertices] as usize];
-        for h in 0..self.origin.len() {
-            if let Some(e) = edge(h) {
-                let slot = &mut start[e[0] as usize];
-                ends[*slot as usize] = e;
-                *slot += 1;
-            }
-        }
-        Edges::from_ends(ends, num_vertices)
     }
 
     /// Checks the mesh invariants: twins are mutual and reversed, every triangle is

@@ -1,0 +1,104 @@
+//! Particle state during relaxation (paper section 5.3): structure-of-arrays of positions,
+//! metrics and their inverses, velocities and per-edge forces, boundary samples first, kept in
+//! Morton order so loops over particles, their neighbours and the field read memory mostly in
+//! order. Insertion appends, deletion and reordering gather every array the same way.
+
+use super::seeding;
+use crate::field::{Tensor, TensorField};
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Particle state during relaxation, structure-of-arrays, boundary samples first.
+pub(super) struct Particles {
+    pub(super) positions: Vec<DVec2>,
+    pub(super) metrics: Vec<Tensor>,
+    pub(super) inverses: Vec<Tensor>,
+    pub(super) velocities: Vec<DVec2>,
+    /// Force of each triangulation edge on its first vertex (reused).
+    pub(super) edge_forces: Vec<DVec2>,
+    /// Where each particle's metric was last looked up.
+    pub(super) looked_up: Vec<DVec2>,
+    /// Where each particle was when the triangulation was last made Delaunay (NaN: never).
+    pub(super) meshed_at: Vec<DVec2>,
+    pub(super) fixed: usize,
+}
+
+impl Particles {
+    pub(super) fn new(positions: Vec<DVec2>, fixed: usize, field: &TensorField) -> Self {
+        let metrics: Vec<Tensor> = positions.par_iter().map(|&p| field.sample(p)).collect();
+        let inverses = metrics
+            .par_iter()
+            .map(|m| m.inverse().unwrap_or_default())
+            .collect();
+        let velocities = vec![DVec2::ZERO; positions.len()];
+        Particles {
+            looked_up: positions.clone(),
+            meshed_at: vec![DVec2::NAN; positions.len()],
+            positions,
+            metrics,
+            inverses,
+            velocities,
+            edge_forces: Vec::new(),
+            fixed,
+        }
+    }
+
+    pub(super) fn push(&mut self, p: DVec2, field: &TensorField) {
+        let m = field.sample(p);
+        self.positions.push(p);
+        self.looked_up.push(p);
+        self.meshed_at.push(DVec2::NAN);
+        self.metrics.push(m);
+        self.inverses.push(m.inverse().unwrap_or_default());
+        self.velocities.push(DVec2::ZERO);
+    }
+
+    /// Puts the free particles in Morton (Z-curve) order of their positions, so that loops
+    /// over particles, their neighbours and the field read memory mostly in order. Ties keep
+    /// the current order, so the result is deterministic.
+    /// Returns `new_index`: the new position of every old index.
+    pub(super) fn sort_spatially(&mut self, domain: DVec2) -> Vec<u32> {
+        let mut keyed: Vec<(u32, u32)> = (self.fixed..self.positions.len())
+            .map(|i| (seeding::morton_key(self.positions[i], domain), i as u32))
+            .collect();
+        keyed.sort_unstable();
+        let order: Vec<u32> = (0..self.fixed as u32)
+            .chain(keyed.iter().map(|&(_, i)| i))
+            .collect();
+        self.keep_in_order(&order);
+        let mut new_index = vec![0u32; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_index[old as usize] = new as u32;
+        }
+        new_index
+    }
+
+    /// Removes the samples at the sorted indices `gone` (none of them fixed), keeping order.
+    pub(super) fn remove(&mut self, gone: &[u32]) {
+        if gone.is_empty() {
+            return;
+        }
+        let mut k = 0;
+        let kept: Vec<u32> = (0..self.positions.len() as u32)
+            .filter(|&i| {
+                let drop = gone.get(k) == Some(&i);
+                k += usize::from(drop);
+                !drop
+            })
+            .collect();
+        self.keep_in_order(&kept);
+    }
+
+    /// Keeps the particles `order` lists, in that order, in every per-particle array.
+    pub(super) fn keep_in_order(&mut self, order: &[u32]) {
+        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            *v = order.iter().map(|&i| v[i as usize]).collect();
+        }
+        gather(&mut self.positions, order);
+        gather(&mut self.velocities, order);
+        gather(&mut self.looked_up, order);
+        gather(&mut self.meshed_at, order);
+        gather(&mut self.metrics, order);
+        gather(&mut self.inverses, order);
+    }
+}
