@@ -32,6 +32,18 @@ pub struct Eigen {
 }
 
 impl Eigen {
+    /// The ellipse's anisotropy `1 − b/a` in [0, 1] (`a ≥ b` the semi-axes' magnitudes): 0 for
+    /// a circle, towards 1 for a needle; 0 for the zero tensor.
+    #[must_use]
+    pub fn anisotropy(&self) -> f64 {
+        let (a, b) = (self.l1.abs(), self.l2.abs());
+        if a > 0.0 {
+            (1.0 - b / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
     /// Unit eigenvector of `l1`.
     #[must_use]
     pub fn e1(&self) -> DVec2 {

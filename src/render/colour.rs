@@ -180,13 +180,7 @@ pub fn anisotropy_colours(metrics: &[Tensor]) -> Vec<Linear> {
 /// The ramp's colour for one ellipse: its anisotropy `1 − b/a` (0 for a degenerate tensor).
 #[must_use]
 pub fn anisotropy_colour(m: &Tensor) -> Linear {
-    let e = m.eigen();
-    let a = if e.l1.abs() > 0.0 {
-        (1.0 - e.l2.abs() / e.l1.abs()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    ramp(a as f32)
+    ramp(m.eigen().anisotropy() as f32)
 }
 
 /// The ramp of [`anisotropy_colours`] at `t ∈ [0, 1]`.
@@ -202,6 +196,32 @@ pub fn ramp(t: f32) -> Linear {
     let i = (x as usize).min(STOPS.len() - 2);
     mix(linear_of(STOPS[i]), linear_of(STOPS[i + 1]), x - i as f32)
 }
+
+/// Salts of [`site_hash`]: every per-cell (or per-pixel) random choice of the looks has its
+/// own, so that two choices about one cell are independent and no look's pattern repeats
+/// another's. The values are arbitrary but fixed: changing one changes the pictures.
+pub mod salt {
+    /// Stipple dot position inside its grid cell, x.
+    pub const STIPPLE_X: u64 = 2;
+    /// Stipple dot position inside its grid cell, y.
+    pub const STIPPLE_Y: u64 = 3;
+    /// Phase of a stroke texture's bristle streaks along the cell.
+    pub const STROKE_PHASE: u64 = 4;
+    /// Brightness of one bristle streak of a stroke texture.
+    pub const STROKE_BRISTLE: u64 = 5;
+    /// Brightness of one bristle of a brush glyph.
+    pub const GLYPH_BRISTLE: u64 = 6;
+    /// Brightness change of a mosaic cell (`look.jitter`).
+    pub const MOSAIC_JITTER: u64 = 7;
+    /// The white noise of the LIC look, per pixel.
+    pub const LIC_NOISE: u64 = 11;
+    /// Brightness of a fabric thread dot; the axis (0 or 1) is added.
+    pub const FABRIC_THREAD: u64 = 12;
+}
+
+/// Knuth's multiplicative hash constant (2³² / φ): spreads consecutive integers over `u32`
+/// before they are combined with a site index.
+pub const GOLDEN_U32: u32 = 2_654_435_761;
 
 /// A small deterministic hash of a site index to [0, 1) (SplitMix64 finaliser).
 #[inline]

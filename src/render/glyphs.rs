@@ -3,7 +3,7 @@
 //! packs them densely without overlaps; a regular grid or random positions, with the same
 //! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
 
-use super::colour::{anisotropy_colour, linear_of, to_srgb, Linear};
+use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
 use super::scene::Scene;
 use crate::field::Tensor;
 use crate::sampling::rng::Rng;
@@ -160,8 +160,12 @@ fn glyph_paint(shape: Shape, colour: Linear, b: f32, k: u32) -> Paint<'static> {
     }
     let stops: Vec<tiny_skia::GradientStop> = (0..BRISTLES)
         .map(|i| {
-            let shade =
-                1.0 + 0.3 * (super::colour::site_hash(k.wrapping_mul(31) + i as u32, 6) - 0.5);
+            let shade = 1.0
+                + 0.3
+                    * (super::colour::site_hash(
+                        k.wrapping_mul(31) + i as u32,
+                        salt::GLYPH_BRISTLE,
+                    ) - 0.5);
             let c = colour.map(|v| (v * shade).clamp(0.0, 1.0));
             tiny_skia::GradientStop::new(i as f32 / (BRISTLES - 1) as f32, srgb(c))
         })

@@ -43,6 +43,9 @@ impl Look {
         })
     }
 
+    /// The look of a preset that names none.
+    pub const DEFAULT_NAME: &'static str = "mosaic";
+
     /// The names [`Look::named`] knows.
     pub const NAMES: [&'static str; 9] = [
         "mosaic",

@@ -7,7 +7,7 @@
 //! even width in pixels whatever the cell's size and stretch. Relief lights each cell as a dome `1 − δ_i²` from the
 //! upper left (GEGL's mosaic has a bevel of the same kind). Shading is `f32` in linear light.
 
-use super::colour::{mix, site_hash, to_srgb, Linear};
+use super::colour::{mix, salt, site_hash, Linear};
 use super::scene::Scene;
 use super::voronoi::Owner;
 use glam::DVec2;
@@ -37,17 +37,26 @@ impl Default for MosaicParams {
     }
 }
 
+impl MosaicParams {
+    /// Cell `site`'s colour `c` with its brightness jitter (`jitter` is the largest change,
+    /// as a fraction of the colour; the same for the raster and the SVG).
+    #[must_use]
+    pub fn jittered(&self, c: Linear, site: u32) -> Linear {
+        if self.jitter <= 0.0 {
+            return c;
+        }
+        let k = 1.0 + self.jitter * (2.0 * site_hash(site, salt::MOSAIC_JITTER) - 1.0);
+        c.map(|v| (v * k).clamp(0.0, 1.0))
+    }
+}
+
 /// Renders the mosaic of `scene`.
 #[must_use]
 pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let border = super::colour::linear_of(params.border_colour);
     let light = DVec2::new(-1.0, -1.0).normalize();
     scene.shade(|p, o| {
-        let mut c = scene.colours[o.site as usize];
-        if params.jitter > 0.0 {
-            let k = 1.0 + params.jitter * (2.0 * site_hash(o.site, 7) - 1.0);
-            c = c.map(|v| (v * k).clamp(0.0, 1.0));
-        }
+        let mut c = params.jittered(scene.colours[o.site as usize], o.site);
         if params.relief > 0.0 {
             // Dome h = 1 − δ², ∇h = −2δ∇δ; the slope towards the light brightens.
             let g = scene.cells.delta_gradient(o.site, p) * (-2.0 * f64::from(o.delta));
@@ -71,10 +80,4 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
 #[must_use]
 pub fn border_coverage(o: &Owner, width: f32) -> f32 {
     (0.5 * width - o.border_px + 0.5).clamp(0.0, 1.0)
-}
-
-/// Encodes a linear colour as sRGB bytes.
-#[must_use]
-pub fn encode(c: Linear) -> [u8; 3] {
-    c.map(to_srgb)
 }

@@ -4,6 +4,7 @@
 //! θ + 180° agree) and its anisotropy `1 − b/a` (saturation), over the photo's luminance.
 //! Of a sampling: [`ellipses_preview`] draws each sample's ellipse over the faded photo.
 
+use super::colour::{ramp, to_srgb};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use image::{DynamicImage, RgbaImage};
@@ -122,7 +123,7 @@ fn draw_ellipses(
         };
         let t = Transform::from_rotate(e.angle.to_degrees() as f32)
             .post_translate(p.x as f32, p.y as f32);
-        let [cr, cg, cb] = anisotropy_colour(1.0 - e.l2 / e.l1);
+        let [cr, cg, cb] = ramp(e.anisotropy() as f32).map(to_srgb);
         fill.set_color(Color::from_rgba8(cr, cg, cb, 140));
         pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
         pixmap.stroke_path(&path, &line, &stroke, t, None);
@@ -147,13 +148,6 @@ fn grid_spacing(metric: &TensorField) -> f64 {
     (2.0 * *median).max(6.0)
 }
 
-/// Blue for round ellipses through to orange for long ones.
-fn anisotropy_colour(t: f64) -> [u8; 3] {
-    let t = t.clamp(0.0, 1.0);
-    let lerp = |a: f64, b: f64| (a + (b - a) * t) as u8;
-    [lerp(60.0, 240.0), lerp(120.0, 130.0), lerp(220.0, 30.0)]
-}
-
 fn orientation_map(metric: &TensorField, backdrop: &[f32], w: u32, h: u32) -> RgbaImage {
     let mut out = vec![0u8; (w * h * 4) as usize];
     let scale = metric.domain() / DVec2::new(f64::from(w), f64::from(h));
@@ -163,11 +157,7 @@ fn orientation_map(metric: &TensorField, backdrop: &[f32], w: u32, h: u32) -> Rg
             for (x, px) in row.chunks_exact_mut(4).enumerate() {
                 let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5) * scale;
                 let e = metric.sample(p).eigen();
-                let anisotropy = if e.l1 > 0.0 {
-                    (1.0 - e.l2 / e.l1).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
+                let anisotropy = e.anisotropy();
                 // Axial hue: 2θ covers the colour wheel once per half turn.
                 let hue = (2.0 * e.angle).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU;
                 let value = 0.45 + 0.55 * f64::from(backdrop[y * w as usize + x]);

@@ -10,12 +10,12 @@
 //!
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
 
-use super::colour::{linear_of, mix, site_hash, to_srgb, Linear};
+use super::colour::{linear_of, mix, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
-use super::texture::{cell_tones, smoothstep, spacing, Frame, Ink, TextureKind, TextureParams};
+use super::texture::{cell_tones, smoothstep, spacing, Frame, TextureKind, TextureParams};
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
@@ -44,15 +44,7 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
     match look {
         Look::Mosaic(p) => {
             let colours: Vec<Linear> = (0..scene.colours.len())
-                .map(|i| {
-                    let c = scene.colours[i];
-                    if p.jitter > 0.0 {
-                        let k = 1.0 + p.jitter * (2.0 * site_hash(i as u32, 7) - 1.0);
-                        c.map(|v| (v * k).clamp(0.0, 1.0))
-                    } else {
-                        c
-                    }
-                })
+                .map(|i| p.jittered(scene.colours[i], i as u32))
                 .collect();
             let border = (p.border_width > 0.0).then_some((p.border_colour, p.border_width));
             cells(&mut out, scene, &colours, border);
@@ -62,13 +54,7 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
         }
         Look::Texture(p) => {
             let colours = tone_colours(scene, p);
-            let border = (p.border_width > 0.0).then(|| {
-                let ink = match p.ink {
-                    Ink::Fixed(rgb) => rgb,
-                    Ink::Cell(_) | Ink::Pixel(_) => [30, 30, 30],
-                };
-                (ink, p.border_width)
-            });
+            let border = (p.border_width > 0.0).then(|| (p.ink.leading(), p.border_width));
             cells(&mut out, scene, &colours, border);
         }
         Look::Glyphs(p) => glyphs(&mut out, scene, p),
@@ -246,11 +232,7 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
-        let ink = match p.ink {
-            Ink::Fixed(rgb) => rgb,
-            Ink::Cell(_) | Ink::Pixel(_) => [30, 30, 30],
-        };
-        traced.write_leading(out, ink, p.border_width);
+        traced.write_leading(out, p.ink.leading(), p.border_width);
     }
 }
 

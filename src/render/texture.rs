@@ -9,7 +9,7 @@
 //! screen), and the texture's contrast fades where the metric is isotropic and no direction
 //! is defined (paper Figure 6), keeping the mean tone. Shading is `f32` in linear light.
 
-use super::colour::{lightness, linear_of, mix, site_hash, Linear};
+use super::colour::{lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
 use super::mosaic::border_coverage;
 use super::scene::Scene;
 use glam::DVec2;
@@ -44,6 +44,26 @@ pub enum Ink {
     Pixel(f32),
 }
 
+impl Ink {
+    /// The colour of the leading between cells: the ink itself when it is fixed, else one
+    /// dark grey ([`LEADING_GREY`]) for every cell.
+    #[must_use]
+    pub fn leading(&self) -> [u8; 3] {
+        match self {
+            Ink::Fixed(rgb) => *rgb,
+            Ink::Cell(_) | Ink::Pixel(_) => LEADING_GREY,
+        }
+    }
+}
+
+/// Black ink as printed: a warm near-black rather than `#000`, which reads harsh on cream
+/// paper and looks like a screen, not a pen.
+pub const BLACK_INK: [u8; 3] = [20, 18, 16];
+
+/// The leading of textured cells whose ink changes from cell to cell: a neutral dark grey
+/// that reads as an outline beside any of them.
+pub const LEADING_GREY: [u8; 3] = [30, 30, 30];
+
 /// Blur of [`Ink::Pixel`], as a fraction of the photo's diagonal.
 pub const INK_BLUR: f32 = 0.002;
 
@@ -77,7 +97,7 @@ impl TextureParams {
             kind: TextureKind::Hatch,
             lines_per_cell: 4.0,
             min_spacing_px: 3.0,
-            ink: Ink::Fixed([20, 18, 16]),
+            ink: Ink::Fixed(BLACK_INK),
             paper: [247, 243, 232],
             gamma: 1.0,
             fade_anisotropy: 0.25,
@@ -130,7 +150,7 @@ impl Frame {
             sin: e.angle.sin(),
             a,
             b,
-            anisotropy: (1.0 - b / a).clamp(0.0, 1.0) as f32,
+            anisotropy: e.anisotropy() as f32,
         }
     }
 }
@@ -216,25 +236,20 @@ impl BlurredPhoto {
         }
     }
 
-    /// The colour at domain point `p` (photo pixels), bilinear in the reduced image.
+    /// The colour at domain point `p` (photo pixels), bilinear in the reduced image, clamped
+    /// at its edges.
     fn at(&self, p: DVec2) -> Linear {
         let (w, h) = (self.image.width, self.image.height);
         let x = (p.x / self.factor - 0.5).clamp(0.0, (w - 1) as f64);
         let y = (p.y / self.factor - 0.5).clamp(0.0, (h - 1) as f64);
-        let (x0, y0) = (x as usize, y as usize);
-        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
-        let (tx, ty) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
-        let px = |x: usize, y: usize| {
-            let i = 3 * (y * w + x);
+        bilinear(x, y, |xi, yi| {
+            let i = 3 * (yi.min(h as i64 - 1) as usize * w + xi.min(w as i64 - 1) as usize);
             [
                 self.image.data[i],
                 self.image.data[i + 1],
                 self.image.data[i + 2],
             ]
-        };
-        let top = mix(px(x0, y0), px(x1, y0), tx);
-        let bottom = mix(px(x0, y1), px(x1, y1), tx);
-        mix(top, bottom, ty)
+        })
     }
 }
 
@@ -325,8 +340,8 @@ fn coverage(
                         ^ ((c.x as i32 as u32).wrapping_mul(73_856_093))
                         ^ ((c.y as i32 as u32).wrapping_mul(19_349_663));
                     let centre = (c + DVec2::new(
-                        0.5 + 0.6 * (f64::from(site_hash(key, 2)) - 0.5),
-                        0.5 + 0.6 * (f64::from(site_hash(key, 3)) - 0.5),
+                        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_X)) - 0.5),
+                        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_Y)) - 0.5),
                     )) * s;
                     let r = s * (f64::from(darkness) / std::f64::consts::PI).sqrt();
                     let cover = ((r - (local - centre).length()) / px + 0.5).clamp(0.0, 1.0);
@@ -358,9 +373,14 @@ fn stroke(
     let s = spacing(f.b, p, px);
     // Value noise across the stroke: random per bristle, blended smoothly between bristles
     // (no hard steps, which would alias inside a cell).
-    let u = local.y / s + f64::from(site_hash(site, 4)) * 16.0;
+    let u = local.y / s + f64::from(site_hash(site, salt::STROKE_PHASE)) * 16.0;
     let (k, t) = (u.floor(), (u - u.floor()) as f32);
-    let bristle = |k: f64| site_hash(site ^ (k as i64 as u32).wrapping_mul(2_654_435_761), 5) - 0.5;
+    let bristle = |k: f64| {
+        site_hash(
+            site ^ (k as i64 as u32).wrapping_mul(GOLDEN_U32),
+            salt::STROKE_BRISTLE,
+        ) - 0.5
+    };
     let t = t * t * (3.0 - 2.0 * t);
     let streak = bristle(k) + (bristle(k + 1.0) - bristle(k)) * t;
     let along = (local.x / f.a).abs().min(1.5) as f32;
@@ -390,19 +410,26 @@ pub fn engraving_tile(size: u32) -> GrayImage {
 
 /// Bilinear look-up of `img` (0..1 grey) at `(u, v)` in tile units, wrapping around.
 fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
-    let (w, h) = (img.width() as f64, img.height() as f64);
-    let x = (u - u.floor()) * w - 0.5;
-    let y = (v - v.floor()) * h - 0.5;
+    let (w, h) = (i64::from(img.width()), i64::from(img.height()));
+    let x = (u - u.floor()) * w as f64 - 0.5;
+    let y = (v - v.floor()) * h as f64 - 0.5;
+    let [grey] = bilinear(x, y, |xi, yi| {
+        let pixel = img.get_pixel(xi.rem_euclid(w) as u32, yi.rem_euclid(h) as u32);
+        [f32::from(pixel.0[0]) / 255.0]
+    });
+    grey
+}
+
+/// Bilinear interpolation at `(x, y)` in texel units (texel `(i, j)` at `(i, j)`) of the
+/// texels `texel(i, j)` gives; the caller clamps or wraps indices outside the image.
+fn bilinear<const N: usize>(x: f64, y: f64, texel: impl Fn(i64, i64) -> [f32; N]) -> [f32; N] {
     let (x0, y0) = (x.floor(), y.floor());
     let (tx, ty) = ((x - x0) as f32, (y - y0) as f32);
-    let at = |xi: f64, yi: f64| {
-        let xi = xi.rem_euclid(w) as u32;
-        let yi = yi.rem_euclid(h) as u32;
-        f32::from(img.get_pixel(xi, yi).0[0]) / 255.0
-    };
-    let top = at(x0, y0) + (at(x0 + 1.0, y0) - at(x0, y0)) * tx;
-    let bottom = at(x0, y0 + 1.0) + (at(x0 + 1.0, y0 + 1.0) - at(x0, y0 + 1.0)) * tx;
-    top + (bottom - top) * ty
+    let (i, j) = (x0 as i64, y0 as i64);
+    let lerp = |a: [f32; N], b: [f32; N], t: f32| std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t);
+    let top = lerp(texel(i, j), texel(i + 1, j), tx);
+    let bottom = lerp(texel(i, j + 1), texel(i + 1, j + 1), tx);
+    lerp(top, bottom, ty)
 }
 
 #[cfg(test)]

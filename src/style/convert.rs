@@ -10,7 +10,7 @@ use crate::field::MetricParams;
 use crate::render::fabric::FabricParams;
 use crate::render::glyphs::{GlyphParams, Placement, Shape};
 use crate::render::mosaic::MosaicParams;
-use crate::render::texture::{Ink, TextureKind, TextureParams};
+use crate::render::texture::{Ink, TextureKind, TextureParams, BLACK_INK};
 use crate::render::Look;
 use crate::sampling::SamplerParams;
 use std::path::{Path, PathBuf};
@@ -90,7 +90,7 @@ impl Preset {
     /// The look with the preset's parameters.
     pub fn look(&self) -> Result<Look> {
         let l = &self.file.look;
-        let kind = l.kind.as_deref().unwrap_or("mosaic");
+        let kind = l.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
         let mut look = Look::named(kind).ok_or_else(|| {
             Error::param(
                 "look.kind",
@@ -130,7 +130,7 @@ impl Preset {
         let darken = l.ink_darken.unwrap_or(0.3).clamp(0.0, 1.0);
         if let Some(ink) = &l.ink {
             p.ink = match ink.as_str() {
-                "black" => Ink::Fixed([20, 18, 16]),
+                "black" => Ink::Fixed(BLACK_INK),
                 "cell" => Ink::Cell(darken),
                 "pixel" => Ink::Pixel(darken),
                 other => Ink::Fixed(colour("look.ink", other)?),
