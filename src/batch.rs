@@ -141,7 +141,8 @@ fn collect(
 /// Runs `paint` on every item over `jobs` threads, skipping existing outputs unless `force`,
 /// with at most [`MEMORY_BUDGET`] of estimated memory in use at once (an item larger than the
 /// budget runs alone). `progress` is called after each item with its index, its outcome and
-/// how long it took. Returns the outcomes in item order.
+/// how long it took. An item whose `paint` panics fails with "internal error: …" and gives its
+/// memory back; the others are painted. Returns the outcomes in item order.
 pub fn run<P, F>(items: &[Item], jobs: usize, force: bool, paint: P, progress: F) -> Vec<Outcome>
 where
     P: Fn(&Item) -> Result<()> + Sync,
@@ -194,13 +195,21 @@ where
                         .parent()
                         .map_or(Ok(()), std::fs::create_dir_all)
                         .map_err(|e| Error::io(&item.output, e));
-                    let painted = made.and_then(|()| match &pool {
-                        Ok(pool) => pool.install(|| paint(item)),
-                        Err(_) => paint(item),
+                    // A panic in one item (a bug) fails that item only: its share of the
+                    // budget is given back below and the other workers go on.
+                    let painted = made.map(|()| {
+                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match &pool {
+                            Ok(pool) => pool.install(|| paint(item)),
+                            Err(_) => paint(item),
+                        }))
                     });
                     match painted {
-                        Ok(()) => Outcome::Done,
-                        Err(e) => Outcome::Failed(e.to_string()),
+                        Ok(Ok(Ok(()))) => Outcome::Done,
+                        Ok(Ok(Err(e))) | Err(e) => Outcome::Failed(e.to_string()),
+                        Ok(Err(panic)) => Outcome::Failed(format!(
+                            "internal error: {} (please report this)",
+                            panic_message(panic.as_ref())
+                        )),
                     }
                 };
                 progress(k, &outcome, start.elapsed());
@@ -218,6 +227,17 @@ where
                 .unwrap_or_else(|| Outcome::Failed("not run".into()))
         })
         .collect()
+}
+
+/// The text a panic was raised with.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> &str {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        s
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s
+    } else {
+        "panic"
+    }
 }
 
 /// Creates `out_dir` if needed and checks that files can be written in it (a probe file is
