@@ -95,6 +95,7 @@ fn photo_gives_metric_npy_and_preview_at_its_size() {
     assert_ne!(m, j);
     let img = image::open(&preview).unwrap();
     assert_eq!((img.width(), img.height()), (451, 300));
+    assert!(common::distinct_colours(&preview) > 100, "an empty preview");
 }
 
 #[test]

@@ -215,17 +215,7 @@ fn completions_for_the_shells() {
 #[test]
 fn every_preset_is_byte_identical_with_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
-    for style in [
-        "mosaic",
-        "pen-hatch",
-        "crosshatch",
-        "strokes",
-        "pointillist",
-        "glyphs",
-        "fabric",
-        "lic",
-        "engraving",
-    ] {
+    for (style, _) in anisopaint::style::BUILT_IN {
         let mut outputs = Vec::new();
         for threads in ["1", "2"] {
             let out = dir.path().join(format!("{style}-{threads}.png"));
@@ -239,6 +229,8 @@ fn every_preset_is_byte_identical_with_one_and_two_threads() {
             outputs.push(std::fs::read(&out).unwrap());
         }
         assert!(outputs[0] == outputs[1], "{style}: 1 and 2 threads differ");
+        let colours = common::distinct_colours(&dir.path().join(format!("{style}-1.png")));
+        assert!(colours > 20, "{style}: only {colours} colours drawn");
     }
 }
 

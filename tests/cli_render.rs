@@ -2,6 +2,8 @@
 //! the label map is a valid int32 .npy indexing samples.csv, samples can be reused, and bad
 //! options and bad sample files fail with exit code 2 and no output.
 
+mod common;
+
 use assert_cmd::Command;
 use std::path::Path;
 
@@ -32,6 +34,9 @@ fn every_look_renders_at_the_asked_size() {
             .assert()
             .success();
         assert_eq!(size_of(&out), (135, 90), "{look}");
+        // Something was drawn: the circular field's cells differ in colour and shape.
+        let colours = common::distinct_colours(&out);
+        assert!(colours > 20, "{look}: {colours} colours");
     }
     let out = dir.path().join("w.png");
     bin()
@@ -42,6 +47,7 @@ fn every_look_renders_at_the_asked_size() {
     let (w, h) = size_of(&out);
     assert_eq!(w, 200);
     assert!((h as i32 - 133).abs() <= 1, "{h}");
+    assert!(common::distinct_colours(&out) > 100);
 }
 
 #[test]
@@ -211,5 +217,84 @@ fn texture_tiles_and_glyph_placements() {
             .assert()
             .success();
         assert_eq!(size_of(&out), (512, 512));
+    }
+}
+
+/// The pixels of a picture file (paint's PNGs carry text chunks that render's do not).
+fn pixels(path: &Path) -> image::RgbImage {
+    image::open(path).unwrap().to_rgb8()
+}
+
+#[test]
+fn explore_commands_take_presets_and_go_through_paints_pipeline() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name);
+    for style in ["strokes", "pen-hatch"] {
+        let (painted, rendered, labels) = (d("p.png"), d("r.png"), d("l.npy"));
+        let seed = ["--seed", "5", "--set", "look.border_width=1"];
+        bin()
+            .args(["paint", "samples/chelsea.png", "-s", style])
+            .args(seed)
+            .arg("-o")
+            .arg(&painted)
+            .assert()
+            .success();
+        bin()
+            .args(["render", "samples/chelsea.png", "-s", style])
+            .args(seed)
+            .arg("-o")
+            .arg(&rendered)
+            .arg("--labels")
+            .arg(&labels)
+            .assert()
+            .success();
+        // The same preset, seed and override: the same picture, pixel for pixel.
+        assert!(pixels(&painted) == pixels(&rendered), "{style}");
+        let bytes = std::fs::read(&labels).unwrap();
+        assert!(bytes.len() > 451 * 300 * 4, "{style}: label map");
+    }
+    // `sample` with a preset uses the preset's metric: strokes has larger, longer ellipses than
+    // the defaults, so fewer samples; `--set` changes it again.
+    let count = |extra: &[&str]| {
+        let out = d("s.csv");
+        bin()
+            .args(["sample", "samples/chelsea.png", "--out"])
+            .arg(&out)
+            .args(extra)
+            .assert()
+            .success();
+        std::fs::read_to_string(&out).unwrap().lines().count() - 1
+    };
+    let (plain, strokes) = (count(&[]), count(&["-s", "strokes"]));
+    let finer = count(&["-s", "strokes", "--set", "metric.max_size=0.01"]);
+    assert!(strokes < plain, "strokes {strokes} vs defaults {plain}");
+    assert!(
+        finer > strokes,
+        "max_size=0.01 {finer} vs strokes {strokes}"
+    );
+    // `field` with a preset writes the preset's metric.
+    let metric = |extra: &[&str]| {
+        let out = d("m.npy");
+        bin()
+            .args(["field", "samples/chelsea.png", "--out"])
+            .arg(&out)
+            .args(extra)
+            .assert()
+            .success();
+        std::fs::read(&out).unwrap()
+    };
+    assert_ne!(metric(&[]), metric(&["-s", "strokes"]));
+    assert_eq!(
+        metric(&[]),
+        metric(&["-s", "crosshatch"]),
+        "crosshatch keeps the default metric"
+    );
+    // A bad preset or key is refused with one line and exit 2.
+    for bad in [&["-s", "nope"][..], &["--set", "look.nope=1"]] {
+        bin()
+            .args(["sample", "samples/chelsea.png"])
+            .args(bad)
+            .assert()
+            .code(2);
     }
 }

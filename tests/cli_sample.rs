@@ -1,6 +1,8 @@
 //! `anisopaint sample` through the real binary: the CSV files are what they claim to be, the
 //! report is complete and machine-readable, and bad fields fail fast with exit code 2.
 
+mod common;
+
 use assert_cmd::Command;
 use npyz::WriterBuilder;
 
@@ -94,6 +96,7 @@ fn samples_triangles_preview_and_report() {
     }
     let img = image::open(&preview).unwrap();
     assert_eq!((img.width(), img.height()), (451, 300));
+    assert!(common::distinct_colours(&preview) > 100, "an empty preview");
 }
 
 #[test]

@@ -38,7 +38,7 @@ pub struct SamplerParams {
     pub insert_fill_rate: f64,
     /// Insert only where the three corners' mean pressure is at most this (0.03: about six
     /// neighbours at `d ≈ 0.97`): a gap among samples that are already pressed together is a
-    /// packing defect, not missing area (see [`population`]).
+    /// packing defect, not missing area (see [`population`](super::population)).
     pub insert_max_pressure: f64,
     /// Delete samples whose pressure `Σ max(f(d), 0)` exceeds this.
     pub delete_pressure: f64,

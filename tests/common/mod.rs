@@ -1,6 +1,15 @@
 //! Helpers shared by the integration tests: hand-made broken and unusual image files.
 #![allow(dead_code)]
 
+/// How many distinct colours a picture file holds: 1 means nothing was drawn on it.
+pub fn distinct_colours(path: &std::path::Path) -> usize {
+    let img = image::open(path).unwrap().to_rgb8();
+    let mut seen: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    seen.sort_unstable();
+    seen.dedup();
+    seen.len()
+}
+
 /// Standard CRC-32 (PNG chunks).
 pub fn crc32(bytes: &[u8]) -> u32 {
     let mut crc = 0xffff_ffffu32;
