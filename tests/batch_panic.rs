@@ -22,7 +22,7 @@ fn a_panicking_item_fails_alone_and_gives_its_budget_back() {
             }
         })
         .collect();
-    assert!(10_000u64 * 10_000 * batch::BYTES_PER_PIXEL > batch::MEMORY_BUDGET);
+    const { assert!(10_000u64 * 10_000 * batch::BYTES_PER_PIXEL > batch::MEMORY_BUDGET) };
     let (done, finished) = mpsc::channel();
     let run_items = items.clone();
     std::thread::spawn(move || {

@@ -233,15 +233,27 @@ fn brush_stroke_svg_looks_like_the_png() {
 #[test]
 fn mosaic_svg_looks_like_the_png() {
     let dir = tempfile::tempdir().unwrap();
-    // Relief shades within cells, which flat SVG fills do not: compare without it.
-    let (png, svg, text) = paint_both(dir.path(), "mosaic", &["--set", "look.relief=0"], 1);
-    assert!(text.matches("<path").count() > 500, "one path per cell");
-    // Cell interiors match exactly; the leading moves by up to the trace tolerance, and SVG
-    // viewers blend its edges in sRGB, not in linear light (measured: 0.017).
-    let tone = tone_difference(&png, &svg);
-    assert!(tone < 0.03, "tone differs by {tone:.4}");
-    let close = close_fraction(&png, &svg, 12);
-    assert!(close > 0.6, "{close:.4} of pixels match the PNG");
+    // Relief shades within cells, which flat SVG fills do not: compare without it. Cell
+    // interiors match exactly; the leading moves by up to the trace tolerance, and SVG viewers
+    // blend its edges in sRGB, not in linear light. Edge-following cells have longer, more
+    // winding borders, so more leading pixels move (measured: tone 0.026 and 58 % of pixels
+    // within 12 levels, against 0.017 and 66 % for the paper's cells).
+    for (cells, least_close) in [("voronoi", 0.6), ("edges", 0.52)] {
+        let set = format!("look.cells={cells}");
+        let sets = ["--set", "look.relief=0", "--set", set.as_str()];
+        let (png, svg, text) = paint_both(dir.path(), "mosaic", &sets, 1);
+        assert!(
+            text.matches("<path").count() > 500,
+            "{cells}: one path per cell"
+        );
+        let tone = tone_difference(&png, &svg);
+        assert!(tone < 0.03, "{cells}: tone differs by {tone:.4}");
+        let close = close_fraction(&png, &svg, 12);
+        assert!(
+            close > least_close,
+            "{cells}: {close:.4} of pixels match the PNG"
+        );
+    }
 }
 
 #[test]

@@ -2,7 +2,8 @@
 //! input), `sample` (the anisotropic sampling, with its quality report) and `render` (a look
 //! drawn from samples, optionally reused from a file, and the label map of its cells). Each
 //! takes `-s STYLE` and `--set` like `paint`, so a preset's metric, samples and cells can be
-//! exported and studied; without `-s` the library's defaults are used. The stages run through
+//! exported and studied; without `-s` the library's defaults are used, with the paper's own
+//! generalized Voronoi cells. The stages run through
 //! [`crate::paint`], the chain `paint` itself uses.
 
 use super::bars::StageBars;
@@ -341,7 +342,7 @@ pub(super) fn run_render(args: &RenderArgs) -> Result<()> {
         svg: svg_path.is_some(),
         labels: args.labels.is_some(),
     };
-    let painting = paint::draw(&loaded, &samples, &recipe.look, size, extras, &bars)?;
+    let painting = paint::draw(&loaded, &samples, &recipe, size, extras, &bars)?;
     if let (Some(path), Some(labels)) = (&args.labels, &painting.labels) {
         crate::io::write_labels_npy(path, labels, size.width, size.height)?;
     }

@@ -108,8 +108,8 @@ impl VerbosityArgs {
 /// The preset an explore command (`field`, `sample`, `render`) takes its parameters from.
 #[derive(Debug, Args)]
 struct PresetArgs {
-    /// A built-in preset or a .toml file whose metric, sampler and look this command uses
-    /// [default: the library's defaults].
+    /// A built-in preset or a .toml file whose metric, sampler, look and cells this command
+    /// uses [default: the library's defaults with the paper's generalized Voronoi cells].
     #[arg(short, long)]
     style: Option<String>,
     /// Override one preset key for this run, e.g. --set metric.max_anisotropy=6 (repeatable).

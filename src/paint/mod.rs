@@ -18,7 +18,8 @@ use crate::error::Result;
 use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
-use crate::render::{label_map, render_with_svg, Look, Raster, RenderSize, VoronoiCells};
+use crate::render::cells::{CellKind, CellParams, CellSites};
+use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
 use glam::DVec2;
@@ -36,6 +37,8 @@ pub struct Recipe {
     pub look: Look,
     /// Raster points per pixel along each axis where a cell border crosses the pixel.
     pub supersample: usize,
+    /// Which cells the look paints.
+    pub cells: CellParams,
 }
 
 impl Recipe {
@@ -58,6 +61,7 @@ impl Recipe {
             sampler,
             look,
             supersample: preset.supersample(),
+            cells: preset.cells()?,
         })
     }
 }
@@ -123,7 +127,7 @@ pub fn paint_loaded(
 ) -> Result<Painting> {
     let samples = sample(&loaded.metric, &recipe.sampler, observer)?;
     let size = field_size(&loaded.metric, recipe.supersample);
-    draw(loaded, &samples, &recipe.look, size, extras, observer)
+    draw(loaded, &samples, recipe, size, extras, observer)
 }
 
 /// The samples of `field`.
@@ -151,36 +155,57 @@ pub fn field_size(field: &TensorField, supersample: usize) -> RenderSize {
     }
 }
 
-/// Draws `look` from `samples` of `loaded` at `size`, with `extras`.
+/// Draws `recipe`'s look from `samples` of `loaded` at `size`, over the cells the recipe
+/// asks for, with `extras` (the label map is that of the same cells).
 pub fn draw(
     loaded: &LoadedField,
     samples: &Samples,
-    look: &Look,
+    recipe: &Recipe,
     size: RenderSize,
     extras: Extras,
     observer: &dyn Observer,
 ) -> Result<Painting> {
-    let labels = extras.labels.then(|| {
-        let cells = VoronoiCells::new(&samples.positions, &samples.metrics, &samples.mesh);
-        let raster = Raster {
-            width: size.width,
-            height: size.height,
-            supersample: 1,
-            domain: loaded.metric.domain(),
-        };
-        label_map(&cells, &raster)
-    });
-    let (image, svg) = timed(observer, Stage::Rendering, || {
-        render_with_svg(
-            look,
-            &samples.positions,
-            &samples.metrics,
-            &samples.mesh,
+    timed(observer, Stage::Rendering, || {
+        let sites = cell_sites(loaded, samples, recipe);
+        let labels = extras.labels.then(|| {
+            let raster = Raster {
+                width: size.width,
+                height: size.height,
+                supersample: 1,
+                domain: loaded.metric.domain(),
+            };
+            label_map(&sites.cells(), &raster)
+        });
+        let (image, svg) = crate::render::draw(
+            &recipe.look,
+            sites.cells(),
             &loaded.metric,
             loaded.photo.as_ref(),
             size,
             extras.svg,
-        )
-    })?;
-    Ok(Painting { image, svg, labels })
+        )?;
+        Ok(Painting { image, svg, labels })
+    })
+}
+
+/// The cells `recipe` asks for. Fabric and LIC lay their threads from the samples as the
+/// sampler packed them, so they always take the paper's cells.
+fn cell_sites(loaded: &LoadedField, samples: &Samples, recipe: &Recipe) -> CellSites {
+    let (positions, metrics, mesh) = (
+        samples.positions.clone(),
+        samples.metrics.clone(),
+        samples.mesh.clone(),
+    );
+    let mut params = recipe.cells.clone();
+    if matches!(recipe.look, Look::Fabric(_)) {
+        params.kind = CellKind::Voronoi;
+    }
+    CellSites::new(
+        positions,
+        metrics,
+        mesh,
+        &loaded.metric,
+        loaded.photo.as_ref(),
+        &params,
+    )
 }

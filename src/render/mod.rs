@@ -8,6 +8,7 @@
 //! with rayon, at any output size: the cells are resolution independent. Imports go one way:
 //! `look` → the looks → `scene` → `raster` → `voronoi`.
 
+pub mod cells;
 pub mod colour;
 pub mod fabric;
 pub mod font;
@@ -90,10 +91,29 @@ pub fn render_with_svg(
     size: RenderSize,
     svg: bool,
 ) -> crate::Result<(RgbImage, Option<String>)> {
+    draw(
+        look,
+        VoronoiCells::new(positions, metrics, mesh),
+        field,
+        photo,
+        size,
+        svg,
+    )
+}
+
+/// Draws `look` over `cells` (the paper's, or edge-following ones from
+/// [`cells::CellSites`]), and its SVG form when `svg` is set.
+pub fn draw(
+    look: &Look,
+    cells: VoronoiCells,
+    field: &TensorField,
+    photo: Option<&DynamicImage>,
+    size: RenderSize,
+    svg: bool,
+) -> crate::Result<(RgbImage, Option<String>)> {
     if svg {
         look.check_vector_form()?;
     }
-    let cells = VoronoiCells::new(positions, metrics, mesh);
     let scene = scene(cells, field, photo, size);
     let image = look.render(&scene);
     let svg = if svg {

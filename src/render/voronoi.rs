@@ -80,8 +80,78 @@ impl SiteQuad {
     }
 }
 
+/// The colour term of edge-following cells: with it, the owner of `p` is the candidate
+/// minimising `D_i(p)² = δ_i(p)² + w·|c(p) − c_i|²`, `c(p)` the photo's colour at `p`
+/// (bilinear, sRGB in [0, 1] per channel, a roughly perceptual scale) and `c_i` cell `i`'s
+/// colour: a pixel across a strong edge from its nearest site goes to the neighbour on its own
+/// side (an anisotropic SLIC step, see [`cells`](super::cells)). `w = 0` is the paper's cell.
+#[derive(Clone, Debug)]
+pub struct ColourTerm {
+    /// The photo, one pixel per domain unit.
+    photo: image::RgbImage,
+    /// Each cell's colour, sRGB in [0, 1].
+    pub means: Vec<[f32; 3]>,
+    /// `w`: a colour difference of `1/√w` weighs as much as the whole ellipse radius.
+    pub weight: f64,
+    /// How far past the paper's border a cell may reach: a candidate `j` can own `p` only
+    /// while `δ_j(p) ≤ δ_min(p) + reach`, so a cell grows across its border into a neighbour
+    /// but never jumps over it, and its pieces stay joined to it.
+    pub reach: f64,
+}
+
+impl ColourTerm {
+    /// The term of `photo` (domain units = its pixels) with no cell colours yet.
+    #[must_use]
+    pub fn new(photo: image::RgbImage, weight: f64) -> Self {
+        ColourTerm {
+            photo,
+            means: Vec::new(),
+            weight,
+            reach: f64::INFINITY,
+        }
+    }
+
+    /// The photo.
+    #[must_use]
+    pub fn photo(&self) -> &image::RgbImage {
+        &self.photo
+    }
+
+    /// The photo's colour at `p` (bilinear between pixel centres, clamped at the edges) and
+    /// its derivatives along x and y, sRGB in [0, 1].
+    #[inline]
+    #[must_use]
+    pub fn colour_at(&self, p: DVec2) -> [[f32; 3]; 3] {
+        let (w, h) = (self.photo.width(), self.photo.height());
+        let x = (p.x - 0.5).clamp(0.0, f64::from(w - 1));
+        let y = (p.y - 0.5).clamp(0.0, f64::from(h - 1));
+        let (x0, y0) = (x as u32, y as u32);
+        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+        let (tx, ty) = ((x - f64::from(x0)) as f32, (y - f64::from(y0)) as f32);
+        let texel = |x: u32, y: u32| self.photo.get_pixel(x, y).0.map(|v| f32::from(v) / 255.0);
+        let (a, b, c, d) = (texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1));
+        let mut out = [[0.0f32; 3]; 3];
+        for k in 0..3 {
+            let top = a[k] + (b[k] - a[k]) * tx;
+            let bottom = c[k] + (d[k] - c[k]) * tx;
+            out[0][k] = top + (bottom - top) * ty;
+            out[1][k] = (b[k] - a[k]) + ((d[k] - c[k]) - (b[k] - a[k])) * ty;
+            out[2][k] = bottom - top;
+        }
+        out
+    }
+
+    /// `w·|c − c_i|²`.
+    #[inline]
+    fn cost(&self, c: [f32; 3], i: u32) -> f64 {
+        let m = self.means[i as usize];
+        let d2: f32 = (0..3).map(|k| (c[k] - m[k]) * (c[k] - m[k])).sum();
+        self.weight * f64::from(d2)
+    }
+}
+
 /// Sites with their inverse metrics and, per triangle of their anisotropic Delaunay
-/// triangulation, the paper's six candidates.
+/// triangulation, the paper's six candidates; optionally a [`ColourTerm`].
 pub struct VoronoiCells<'a> {
     positions: &'a [DVec2],
     metrics: &'a [Tensor],
@@ -91,6 +161,7 @@ pub struct VoronoiCells<'a> {
     steepest: Vec<f64>,
     mesh: &'a AnisotropicDelaunay,
     candidates: Vec<[u32; 6]>,
+    colour: Option<&'a ColourTerm>,
 }
 
 impl<'a> VoronoiCells<'a> {
@@ -145,7 +216,22 @@ impl<'a> VoronoiCells<'a> {
             steepest,
             mesh,
             candidates,
+            colour: None,
         }
+    }
+
+    /// The same cells with `term`'s colour term in the owner (its `means` one per site).
+    #[must_use]
+    pub fn with_colour(mut self, term: &'a ColourTerm) -> Self {
+        debug_assert_eq!(term.means.len(), self.positions.len());
+        self.colour = Some(term);
+        self
+    }
+
+    /// The colour term, if the cells have one.
+    #[must_use]
+    pub fn colour(&self) -> Option<&ColourTerm> {
+        self.colour
     }
 
     /// The largest slope `|∇δ_i|` anywhere: `1/b_i`.
@@ -199,8 +285,26 @@ impl<'a> VoronoiCells<'a> {
     #[must_use]
     pub fn owner_in_triangle(&self, t: usize, p: DVec2) -> Owner {
         let candidates = self.candidates[t].iter().filter(|&&c| c != NONE);
-        let ((site, d1), (second, d2)) =
-            nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p))));
+        let ((site, d1), (second, d2)) = match self.colour {
+            None => nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p)))),
+            Some(term) => {
+                let colour = term.colour_at(p)[0];
+                let mut deltas = [(NONE, f64::INFINITY); 6];
+                let mut nearest = f64::INFINITY;
+                for (slot, &c) in deltas.iter_mut().zip(candidates) {
+                    let d = self.quads[c as usize].delta_squared(p).sqrt();
+                    nearest = nearest.min(d);
+                    *slot = (c, d);
+                }
+                let limit = nearest + term.reach;
+                nearest_two(
+                    deltas
+                        .into_iter()
+                        .filter(|&(c, d)| c != NONE && d <= limit)
+                        .map(|(c, d)| (c, d * d + term.cost(colour, c))),
+                )
+            }
+        };
         Owner {
             site,
             second,
@@ -212,16 +316,32 @@ impl<'a> VoronoiCells<'a> {
     }
 
     /// `∇δ_j − ∇δ_i` at `p` for the owner `i` and runner-up `j` of `o` (zero without one):
-    /// the gradient of `f = δ_j − δ_i`, which is zero on the border.
+    /// the gradient of `f = δ_j − δ_i`, which is zero on the border. With a colour term, the
+    /// same for `f = D_j − D_i`: `∇D_i = (Q_i (p − p_i) + w Jᵀ(c − c_i)) / D_i`, `J` the
+    /// photo's colour derivatives at `p`.
     #[must_use]
     pub fn border_gradient(&self, p: DVec2, o: &Owner) -> DVec2 {
         if o.second == NONE || o.delta <= 0.0 || o.delta2 <= 0.0 {
             return DVec2::ZERO;
         }
-        let grad = |i: u32, delta: f32| {
+        let half_gradient = |i: u32| {
             let q = &self.quads[i as usize];
             let (dx, dy) = (p.x - q.x, p.y - q.y);
-            DVec2::new(q.qxx * dx + q.qxy * dy, q.qxy * dx + q.qyy * dy) / f64::from(delta)
+            DVec2::new(q.qxx * dx + q.qxy * dy, q.qxy * dx + q.qyy * dy)
+        };
+        let Some(term) = self.colour else {
+            let grad = |i: u32, delta: f32| half_gradient(i) / f64::from(delta);
+            return grad(o.second, o.delta2) - grad(o.site, o.delta);
+        };
+        let [c, dcx, dcy] = term.colour_at(p);
+        let grad = |i: u32, big_d: f32| {
+            let m = term.means[i as usize];
+            let mut g = half_gradient(i);
+            for k in 0..3 {
+                let diff = f64::from(c[k] - m[k]) * term.weight;
+                g += DVec2::new(diff * f64::from(dcx[k]), diff * f64::from(dcy[k]));
+            }
+            g / f64::from(big_d)
         };
         grad(o.second, o.delta2) - grad(o.site, o.delta)
     }
@@ -235,6 +355,9 @@ impl<'a> VoronoiCells<'a> {
         if o.second == NONE {
             return f64::INFINITY;
         }
+        if self.colour.is_some() {
+            return 0.0; // the photo's colour can change at any rate: always measure
+        }
         f64::from(o.delta2 - o.delta) / (self.steepest(o.site) + self.steepest(o.second))
     }
 
@@ -244,7 +367,23 @@ impl<'a> VoronoiCells<'a> {
         // δ from the inverse metrics, not the packed quadratics the search uses, so the
         // reference stays independent of them.
         let sites = 0..self.positions.len() as u32;
-        let ((site, d1), (second, d2)) = nearest_two(sites.map(|i| (i, self.delta(i, p))));
+        let ((site, d1), (second, d2)) = match self.colour {
+            None => nearest_two(sites.map(|i| (i, self.delta(i, p)))),
+            Some(term) => {
+                let colour = term.colour_at(p)[0];
+                let nearest = sites
+                    .clone()
+                    .map(|i| self.delta(i, p))
+                    .fold(f64::INFINITY, f64::min);
+                let ((s1, c1), (s2, c2)) = nearest_two(
+                    sites
+                        .map(|i| (i, self.delta(i, p)))
+                        .filter(|&(_, d)| d <= nearest + term.reach)
+                        .map(|(i, d)| (i, d * d + term.cost(colour, i))),
+                );
+                ((s1, c1.sqrt()), (s2, c2.sqrt()))
+            }
+        };
         Owner {
             site,
             second,

@@ -7,6 +7,7 @@
 use super::preset::{Preset, BUILT_IN_TEXTURES};
 use crate::error::{Error, Result};
 use crate::field::MetricParams;
+use crate::render::cells::{CellKind, CellParams};
 use crate::render::fabric::FabricParams;
 use crate::render::glyphs::{GlyphParams, Placement, Shape};
 use crate::render::mosaic::MosaicParams;
@@ -79,6 +80,58 @@ impl Preset {
             seed: s.seed.unwrap_or(d.seed),
             ..d
         }
+    }
+
+    /// Which cells the looks paint: `look.cells` ("edges" by default, or "voronoi"),
+    /// `look.colour_weight` (0 to 1e6), `look.cell_iterations` (0 to 20), `look.cell_reach`
+    /// (≥ 0) and `look.cell_blur_px` (0 to 20).
+    pub fn cells(&self) -> Result<CellParams> {
+        let l = &self.file.look;
+        let d = CellParams::default();
+        let kind = match l.cells.as_deref() {
+            None => d.kind,
+            Some(name) => CellKind::named(name).ok_or_else(|| {
+                Error::param(
+                    "look.cells",
+                    format!("{name}: expected one of {}", CellKind::NAMES.join(", ")),
+                )
+            })?,
+        };
+        let colour_weight = l.colour_weight.unwrap_or(d.colour_weight);
+        if !(0.0..=1e6).contains(&colour_weight) {
+            return Err(Error::param(
+                "look.colour_weight",
+                format!("{colour_weight} must be in [0, 1e6]"),
+            ));
+        }
+        let iterations = l.cell_iterations.unwrap_or(d.iterations);
+        if iterations > 20 {
+            return Err(Error::param(
+                "look.cell_iterations",
+                format!("{iterations} must be in [0, 20]"),
+            ));
+        }
+        let reach = l.cell_reach.unwrap_or(d.reach);
+        if reach.is_nan() || reach < 0.0 {
+            return Err(Error::param(
+                "look.cell_reach",
+                format!("{reach} must be 0 or more (inf: no limit)"),
+            ));
+        }
+        let blur_px = l.cell_blur_px.unwrap_or(d.blur_px);
+        if !(0.0..=20.0).contains(&blur_px) {
+            return Err(Error::param(
+                "look.cell_blur_px",
+                format!("{blur_px} must be in [0, 20]"),
+            ));
+        }
+        Ok(CellParams {
+            kind,
+            colour_weight,
+            iterations,
+            reach,
+            blur_px,
+        })
     }
 
     /// Raster points per pixel at cell borders (default 2).

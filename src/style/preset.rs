@@ -82,6 +82,16 @@ pub struct SamplerSection {
 pub struct LookSection {
     /// mosaic, hatch, crosshatch, line, stroke, stipple, glyphs, fabric or lic.
     pub kind: Option<String>,
+    /// "edges" (cells that stop at the photo's edges) or "voronoi" (the paper's cells).
+    pub cells: Option<String>,
+    /// Weight of the colour term of edge-following cells.
+    pub colour_weight: Option<f64>,
+    /// Assign-and-move rounds of edge-following cells.
+    pub cell_iterations: Option<usize>,
+    /// How far past the paper's border an edge-following cell may reach (in `δ`).
+    pub cell_reach: Option<f64>,
+    /// σ in photo pixels of the blur the colour term of edge-following cells sees.
+    pub cell_blur_px: Option<f32>,
     pub supersample: Option<usize>,
     pub border_width: Option<f32>,
     pub border_colour: Option<String>,
@@ -123,13 +133,16 @@ pub struct Preset {
 }
 
 impl Preset {
-    /// The preset of no file: every key at the library's default (a mosaic). The explore
-    /// commands use it when no `-s` is given.
+    /// The preset of no file: every key at the library's default (a mosaic), but the
+    /// paper's own generalized Voronoi cells (`look.cells = "voronoi"`), so that the explore
+    /// commands without `-s` show the paper's method and their label maps are its cells.
     #[must_use]
     pub fn defaults() -> Preset {
+        let mut file = PresetFile::default();
+        file.look.cells = Some("voronoi".into());
         Preset {
             name: "defaults".into(),
-            file: PresetFile::default(),
+            file,
             dir: None,
         }
     }
@@ -256,6 +269,11 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
         },
         look: LookSection {
             kind: o.kind.or(b.kind),
+            cells: o.cells.or(b.cells),
+            colour_weight: o.colour_weight.or(b.colour_weight),
+            cell_iterations: o.cell_iterations.or(b.cell_iterations),
+            cell_reach: o.cell_reach.or(b.cell_reach),
+            cell_blur_px: o.cell_blur_px.or(b.cell_blur_px),
             supersample: o.supersample.or(b.supersample),
             border_width: o.border_width.or(b.border_width),
             border_colour: o.border_colour.or(b.border_colour),

@@ -72,5 +72,6 @@ pub fn variants(styles: &[String], vary: Option<&str>, sets: &[String]) -> Resul
 fn check(preset: &Preset) -> Result<()> {
     preset.metric()?;
     preset.look()?;
+    preset.cells()?;
     Ok(())
 }

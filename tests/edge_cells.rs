@@ -1,0 +1,260 @@
+//! Cells that keep the subject, on synthetic photos whose answer is known:
+//!
+//! (a) step edges at several angles between two flat colours: in a 3-px band either side of the
+//!     edge, at least 95 % of the mosaic's pixels (no leading, no relief shading) are within
+//!     10 % of the colour difference of their own side's colour (pixels the edge itself crosses
+//!     are blends in the photo too and are left out);
+//! (b) lines 2 and 4 px wide at 0, 17, 45, 80 and 130° on a flat background: the mosaic's
+//!     colour along the line's centre is within 25 % of the line's contrast of the line's
+//!     colour, and the cells on it are elongated along it; a 1-px line keeps at least a third
+//!     of the darkness it has in the picture (measured: 41 % at 45°, 55-97 % elsewhere).
+//!
+//! Each check also runs on the paper's cells (`look.cells = "voronoi"`), which must fail it:
+//! the test proves it can tell the two apart.
+
+use anisopaint::input::photo_field;
+use anisopaint::paint::{paint_loaded, Extras, Recipe};
+use anisopaint::progress::Silent;
+use anisopaint::style;
+use glam::DVec2;
+use image::{DynamicImage, RgbImage};
+
+const W: u32 = 240;
+const H: u32 = 180;
+
+/// A picture of `W × H` as a camera sees it: each pixel the mean of `colour(d)` over 4×4
+/// points of its footprint, `d` the signed distance from the line through the centre at
+/// `angle_deg` (so edges are anti-aliased, as in photos).
+fn picture(angle_deg: f64, colour: impl Fn(f64) -> [u8; 3]) -> RgbImage {
+    let normal = normal(angle_deg);
+    let centre = DVec2::new(f64::from(W) / 2.0, f64::from(H) / 2.0);
+    RgbImage::from_fn(W, H, |x, y| {
+        let mut sum = [0.0f64; 3];
+        for j in 0..4 {
+            for i in 0..4 {
+                let p = DVec2::new(
+                    f64::from(x) + (f64::from(i) + 0.5) / 4.0,
+                    f64::from(y) + (f64::from(j) + 0.5) / 4.0,
+                );
+                let c = colour((p - centre).dot(normal));
+                for k in 0..3 {
+                    sum[k] += f64::from(c[k]) / 16.0;
+                }
+            }
+        }
+        image::Rgb(sum.map(|v| v.round() as u8))
+    })
+}
+
+fn normal(angle_deg: f64) -> DVec2 {
+    let a = angle_deg.to_radians();
+    DVec2::new(-a.sin(), a.cos())
+}
+
+/// `photo` painted in `style` with `sets`, seed 1, at its own size; and its label map.
+fn paint(photo: &RgbImage, style_name: &str, sets: &[&str]) -> (RgbImage, Vec<i32>) {
+    let mut preset = style::load(style_name).unwrap();
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    style::apply_sets(&mut preset, &sets).unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
+    let extras = Extras {
+        svg: false,
+        labels: true,
+    };
+    let painting = paint_loaded(&loaded, &recipe, extras, &Silent).unwrap();
+    (painting.image, painting.labels.unwrap())
+}
+
+fn distance(a: [u8; 3], b: [u8; 3]) -> f64 {
+    (0..3)
+        .map(|k| (f64::from(a[k]) - f64::from(b[k])).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+fn luma(c: [u8; 3]) -> f64 {
+    (0.299 * f64::from(c[0]) + 0.587 * f64::from(c[1]) + 0.114 * f64::from(c[2])) / 255.0
+}
+
+/// Pixels whose centres lie at least `margin` px inside the picture.
+fn inside(x: u32, y: u32, margin: u32) -> bool {
+    x >= margin && y >= margin && x + margin < W && y + margin < H
+}
+
+const A: [u8; 3] = [205, 72, 48];
+const B: [u8; 3] = [36, 84, 170];
+const ANGLES: [f64; 5] = [0.0, 17.0, 45.0, 80.0, 130.0];
+
+/// Share of band pixels within 10 % of the colour difference of their own side's colour.
+fn step_edge_share(angle: f64, sets: &[&str]) -> f64 {
+    let photo = picture(angle, |d| if d < 0.0 { A } else { B });
+    let (painted, _) = paint(&photo, "mosaic", sets);
+    let (normal, centre) = (normal(angle), DVec2::new(f64::from(W), f64::from(H)) / 2.0);
+    let tolerance = 0.1 * distance(A, B);
+    let (mut good, mut all) = (0usize, 0usize);
+    for (x, y, px) in painted.enumerate_pixels() {
+        let d = (DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5) - centre).dot(normal);
+        // A pixel's footprint reaches 0.71 px from its centre.
+        if !(0.71..=3.0).contains(&d.abs()) || !inside(x, y, 8) {
+            continue;
+        }
+        let own = if d < 0.0 { A } else { B };
+        all += 1;
+        good += usize::from(distance(px.0, own) <= tolerance);
+    }
+    good as f64 / all as f64
+}
+
+#[test]
+fn step_edges_keep_both_colours_up_to_the_edge() {
+    for angle in ANGLES {
+        let share = step_edge_share(angle, &["look.border_width=0", "look.relief=0"]);
+        assert!(
+            share >= 0.95,
+            "{angle}°: {:.1} % of the band",
+            100.0 * share
+        );
+    }
+    // The paper's cells straddle the edge and fail this.
+    let paper: f64 = ANGLES
+        .iter()
+        .map(|&a| {
+            step_edge_share(
+                a,
+                &["look.border_width=0", "look.relief=0", "look.cells=voronoi"],
+            )
+        })
+        .sum::<f64>()
+        / ANGLES.len() as f64;
+    assert!(paper < 0.9, "the paper's cells: {:.1} %", 100.0 * paper);
+}
+
+const BACKGROUND: [u8; 3] = [226, 222, 212];
+const LINE: [u8; 3] = [38, 34, 30];
+
+/// A dark line `width` px wide at `angle` on a light background.
+fn line_picture(angle: f64, width: f64) -> RgbImage {
+    picture(angle, |d| {
+        if d.abs() < width / 2.0 {
+            LINE
+        } else {
+            BACKGROUND
+        }
+    })
+}
+
+/// On the line's centre pixels: the mean painted luma's distance from the line's luma (as a
+/// fraction of the line's contrast), the mean elongation along the line of the cells holding
+/// them, and the share of the picture's own darkness there that the painting keeps.
+fn line_result(angle: f64, width: f64, sets: &[&str]) -> (f64, f64, f64) {
+    let photo = line_picture(angle, width);
+    let (painted, labels) = paint(&photo, "mosaic", sets);
+    let (normal, centre) = (normal(angle), DVec2::new(f64::from(W), f64::from(H)) / 2.0);
+    let along = DVec2::new(normal.y, -normal.x);
+    let contrast = luma(BACKGROUND) - luma(LINE);
+    let (mut off, mut n, mut kept, mut there) = (0.0, 0usize, 0.0, 0.0);
+    let mut cells = std::collections::BTreeMap::<i32, usize>::new();
+    for (x, y, px) in painted.enumerate_pixels() {
+        let d = (DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5) - centre).dot(normal);
+        if d.abs() > 0.5 || !inside(x, y, 10) {
+            continue;
+        }
+        off += (luma(px.0) - luma(LINE)).abs() / contrast;
+        n += 1;
+        kept += luma(BACKGROUND) - luma(px.0);
+        there += luma(BACKGROUND) - luma(photo.get_pixel(x, y).0);
+        *cells.entry(labels[(y * W + x) as usize]).or_default() += 1;
+    }
+    // Elongation of a cell: the spread of its pixels along the line over the spread across.
+    let mut elongation = 0.0;
+    let mut weight = 0usize;
+    for (&cell, &count) in &cells {
+        let pixels: Vec<DVec2> = (0..W * H)
+            .filter(|&k| labels[k as usize] == cell)
+            .map(|k| DVec2::new(f64::from(k % W) + 0.5, f64::from(k / W) + 0.5))
+            .collect();
+        let mean = pixels.iter().copied().sum::<DVec2>() / pixels.len() as f64;
+        let spread = |axis: DVec2| {
+            (pixels
+                .iter()
+                .map(|p| (*p - mean).dot(axis).powi(2))
+                .sum::<f64>()
+                / pixels.len() as f64)
+                .sqrt()
+                .max(0.29) // a one-pixel-wide cell still has width
+        };
+        elongation += spread(along) / spread(normal) * count as f64;
+        weight += count;
+    }
+    (off / n as f64, elongation / weight as f64, kept / there)
+}
+
+#[test]
+fn thin_lines_keep_their_colour_and_their_cells_run_along_them() {
+    let mut paper_worst: f64 = 0.0;
+    for angle in ANGLES {
+        for width in [2.0, 4.0] {
+            let (off, elongation, _) =
+                line_result(angle, width, &["look.border_width=0", "look.relief=0"]);
+            assert!(
+                off <= 0.25,
+                "{width} px at {angle}°: centre {:.0} % of the contrast off the line",
+                100.0 * off
+            );
+            assert!(
+                elongation >= 1.5,
+                "{width} px at {angle}°: cells {elongation:.2}× longer than wide"
+            );
+            let (paper, _, _) = line_result(
+                angle,
+                width,
+                &["look.border_width=0", "look.relief=0", "look.cells=voronoi"],
+            );
+            paper_worst = paper_worst.max(paper);
+        }
+        // A 1-px line does not vanish.
+        let (_, _, kept) = line_result(angle, 1.0, &["look.border_width=0", "look.relief=0"]);
+        assert!(
+            kept >= 0.35,
+            "1 px at {angle}°: {:.0} % of its darkness kept",
+            100.0 * kept
+        );
+    }
+    assert!(paper_worst > 0.25, "the paper's cells: {paper_worst:.2}");
+}
+
+#[test]
+fn the_owner_search_of_edge_cells_agrees_with_brute_force() {
+    use anisopaint::render::cells::{CellParams, CellSites};
+    use anisopaint::render::{label_map, Raster};
+    let photo = DynamicImage::ImageRgb8(line_picture(30.0, 3.0));
+    let loaded = photo_field(photo.clone(), &Default::default());
+    let s = anisopaint::sampling::sample(&loaded.metric, &Default::default()).unwrap();
+    let sites = CellSites::new(
+        s.positions,
+        s.metrics,
+        s.mesh,
+        &loaded.metric,
+        Some(&photo),
+        &CellParams::default(),
+    );
+    let cells = sites.cells();
+    assert!(cells.colour().is_some());
+    let raster = Raster {
+        width: W as usize,
+        height: H as usize,
+        supersample: 1,
+        domain: loaded.metric.domain(),
+    };
+    let labels = label_map(&cells, &raster);
+    let mut agree = 0;
+    for y in 0..H as usize {
+        for x in 0..W as usize {
+            let o = cells.owner_brute_force(raster.point(x, y));
+            agree += usize::from(labels[y * W as usize + x] == o.site as i32);
+        }
+    }
+    let rate = agree as f64 / f64::from(W * H);
+    assert!(rate >= 0.995, "{:.2} % agree", 100.0 * rate);
+}
