@@ -208,15 +208,18 @@ impl CellSites {
     }
 }
 
-/// `photo` as sRGB bytes, blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0).
+/// `photo` as sRGB bytes, blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0), one
+/// channel at a time so that only one float plane is held.
 fn blurred(photo: &DynamicImage, sigma: f32) -> image::RgbImage {
     let mut rgb = photo.to_rgb8();
     if sigma > 0.0 {
         let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-        let mut data: Vec<f32> = rgb.as_raw().iter().map(|&v| f32::from(v)).collect();
-        crate::field::blur::gaussian_blur_parallel_mut(&mut data, w, h, 3, sigma);
-        for (out, v) in rgb.iter_mut().zip(data) {
-            *out = v.round().clamp(0.0, 255.0) as u8;
+        for channel in 0..3 {
+            let mut plane: Vec<f32> = rgb.pixels().map(|p| f32::from(p.0[channel])).collect();
+            crate::field::blur::gaussian_blur_parallel_mut(&mut plane, w, h, 1, sigma);
+            for (p, v) in rgb.pixels_mut().zip(plane) {
+                p.0[channel] = v.round().clamp(0.0, 255.0) as u8;
+            }
         }
     }
     rgb
