@@ -12,8 +12,8 @@
 //! candidates of the owner search stay the anisotropic Delaunay neighbours. Sites on the
 //! domain's boundary stay where they are. Positions are `f64`, colours `f32` sRGB in [0, 1].
 
-use super::raster::{owner_map, Raster};
-use super::voronoi::{ColourTerm, VoronoiCells, NONE};
+use super::raster::pixel_sums;
+use super::voronoi::{ColourTerm, VoronoiCells};
 use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
@@ -248,66 +248,22 @@ impl CellStats {
     }
 }
 
-/// Fixed number of row blocks for the sums (not the thread count: determinism).
-const SUM_BLOCKS: usize = 16;
-
 /// Every cell's pixels of `photo` (one pixel per domain unit): count, position and sRGB colour
-/// sums. Owners are found at the centres of 2×2 pixel blocks when cells average 64 pixels or
-/// more (each pixel of the block counts, with the block's owner), as for the cell colours.
+/// sums ([`pixel_sums`]).
 fn cell_stats(cells: &VoronoiCells, photo: &image::RgbImage) -> Vec<CellStats> {
-    let (pw, ph) = (photo.width() as usize, photo.height() as usize);
-    let n = cells.positions().len();
-    let stride = if (pw * ph) as f64 / n.max(1) as f64 >= 64.0 {
-        2
-    } else {
-        1
-    };
-    let (w, h) = (pw.div_ceil(stride), ph.div_ceil(stride));
-    let raster = Raster {
-        width: w,
-        height: h,
-        supersample: 1,
-        domain: DVec2::new((w * stride) as f64, (h * stride) as f64),
-    };
-    let owners = owner_map(cells, &raster);
-    let block_rows = h.div_ceil(SUM_BLOCKS).max(1);
-    let partial: Vec<Vec<CellStats>> = owners
-        .par_chunks(w * block_rows)
-        .enumerate()
-        .map(|(block, owners)| {
-            let mut sums = vec![CellStats::default(); n];
-            for (k, &o) in owners.iter().enumerate() {
-                if o == NONE {
-                    continue;
-                }
-                let (gx, gy) = (k % w, block * block_rows + k / w);
-                let s = &mut sums[o as usize];
-                for y in gy * stride..((gy + 1) * stride).min(ph) {
-                    for x in gx * stride..((gx + 1) * stride).min(pw) {
-                        let px = photo.get_pixel(x as u32, y as u32).0;
-                        s.count += 1.0;
-                        s.position[0] += x as f64 + 0.5;
-                        s.position[1] += y as f64 + 0.5;
-                        for (sum, v) in s.colour.iter_mut().zip(px) {
-                            *sum += f64::from(v) / 255.0;
-                        }
-                    }
-                }
-            }
-            sums
-        })
-        .collect();
-    let mut total = vec![CellStats::default(); n];
-    for sums in partial {
-        for (t, s) in total.iter_mut().zip(sums) {
-            t.count += s.count;
-            for k in 0..2 {
-                t.position[k] += s.position[k];
-            }
-            for k in 0..3 {
-                t.colour[k] += s.colour[k];
-            }
-        }
-    }
-    total
+    let (w, h) = (photo.width() as usize, photo.height() as usize);
+    pixel_sums(cells, w, h, |x, y| {
+        let [r, g, b] = photo
+            .get_pixel(x as u32, y as u32)
+            .0
+            .map(|v| f64::from(v) / 255.0);
+        [1.0, x as f64 + 0.5, y as f64 + 0.5, r, g, b]
+    })
+    .into_iter()
+    .map(|s| CellStats {
+        count: s[0],
+        position: [s[1], s[2]],
+        colour: [s[3], s[4], s[5]],
+    })
+    .collect()
 }

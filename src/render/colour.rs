@@ -3,11 +3,10 @@
 //! of the photo under it), and a colour map for fields without a photo. Linear values are
 //! `f32` in [0, 1]; encoded values are `u8`.
 
-use super::raster::{owner_map, Raster};
-use super::voronoi::{VoronoiCells, NONE};
+use super::raster::pixel_sums;
+use super::voronoi::VoronoiCells;
 use crate::field::Tensor;
 use image::DynamicImage;
-use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// A linear-light RGB colour.
@@ -91,84 +90,29 @@ pub fn linear_of(rgb: [u8; 3]) -> Linear {
 }
 
 /// Mean colour of the photo over every cell, in linear light. The photo is read at its own
-/// resolution (the domain of the sites is the photo's pixel grid). When cells hold 64 pixels
-/// or more on average, owners are searched for blocks of 2x2 pixels (at the block's centre)
-/// and the block's four pixels go to that owner: every pixel counts, a quarter of the owner
-/// searches, and only pixels next to a border can land in the neighbouring cell. A cell that
-/// receives no pixel takes the photo's colour at its site. Sums run in fixed row blocks and are added in block order, so the result does
-/// not depend on the thread count.
+/// resolution (the domain of the sites is the photo's pixel grid), summed by
+/// [`pixel_sums`]. A cell that receives no pixel takes the photo's colour at its site.
 #[must_use]
 pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
     let rgb = photo.to_rgb8();
     let (pw, ph) = (rgb.width() as usize, rgb.height() as usize);
-    let n = cells.positions().len();
-    let stride = if (pw * ph) as f64 / n.max(1) as f64 >= 64.0 {
-        2
-    } else {
-        1
-    };
-    // Raster point (gx, gy) is the centre of the block of photo pixels from
-    // (stride·gx, stride·gy); the raster covers the blocks (a last partial block included).
-    let (w, h) = (pw.div_ceil(stride), ph.div_ceil(stride));
-    let raster = Raster {
-        width: w,
-        height: h,
-        supersample: 1,
-        domain: glam::DVec2::new((w * stride) as f64, (h * stride) as f64),
-    };
-    let labels = owner_map(cells, &raster);
-
-    let block_rows = h.div_ceil(SUM_BLOCKS).max(1);
-    let partial: Vec<Vec<[f64; 4]>> = labels
-        .par_chunks(w * block_rows)
-        .enumerate()
-        .map(|(block, labels)| {
-            let mut sums = vec![[0.0f64; 4]; n];
-            for (k, &l) in labels.iter().enumerate() {
-                if l == NONE {
-                    continue;
-                }
-                let (gx, gy) = (k % w, block * block_rows + k / w);
-                let s = &mut sums[l as usize];
-                // Every photo pixel of the block counts, with the owner of its centre.
-                for y in gy * stride..((gy + 1) * stride).min(ph) {
-                    for x in gx * stride..((gx + 1) * stride).min(pw) {
-                        let px = rgb.get_pixel(x as u32, y as u32).0;
-                        for (acc, v) in s.iter_mut().zip(px) {
-                            *acc += f64::from(to_linear(v));
-                        }
-                        s[3] += 1.0;
-                    }
-                }
-            }
-            sums
-        })
-        .collect();
-    let mut total = vec![[0.0f64; 4]; n];
-    for block in partial {
-        for (t, s) in total.iter_mut().zip(block) {
-            for k in 0..4 {
-                t[k] += s[k];
-            }
-        }
-    }
-    total
-        .iter()
+    let sums = pixel_sums(cells, pw, ph, |x, y| {
+        let [r, g, b] = rgb.get_pixel(x as u32, y as u32).0.map(to_linear);
+        [f64::from(r), f64::from(g), f64::from(b), 1.0]
+    });
+    sums.iter()
         .zip(cells.positions())
         .map(|(s, p)| {
             if s[3] > 0.0 {
                 [s[0] / s[3], s[1] / s[3], s[2] / s[3]].map(|v| v as f32)
             } else {
-                let x = (p.x as usize).min(w - 1) as u32;
-                let y = (p.y as usize).min(h - 1) as u32;
+                let x = (p.x as usize).min(pw - 1) as u32;
+                let y = (p.y as usize).min(ph - 1) as u32;
                 linear_of(rgb.get_pixel(x, y).0)
             }
         })
         .collect()
 }
-
-/// Fixed number of row blocks for the cell sums (not the thread count: determinism).
-const SUM_BLOCKS: usize = 16;
 
 /// Colours for sites without a photo: a perceptually ordered ramp (deep blue → teal → sand →
 /// brick) over the anisotropy `1 − b/a` of each site's ellipse, in linear light.

@@ -207,6 +207,74 @@ pub fn owner_map(cells: &VoronoiCells, raster: &Raster) -> Vec<u32> {
     owners
 }
 
+/// Per-cell sums of `value(x, y)` over the pixels of a `width × height` image whose pixels
+/// are domain units (a photo under its own field). When cells average 64 pixels or more,
+/// owners are searched at the centres of 2×2 pixel blocks and the block's pixels go to that
+/// owner: every pixel counts, a quarter of the owner searches, and only pixels next to a
+/// border can land in the neighbouring cell. Sums run in fixed row blocks added in order, so
+/// the result does not depend on the thread count.
+pub fn pixel_sums<const N: usize, F>(
+    cells: &VoronoiCells,
+    width: usize,
+    height: usize,
+    value: F,
+) -> Vec<[f64; N]>
+where
+    F: Fn(usize, usize) -> [f64; N] + Sync,
+{
+    let n = cells.positions().len();
+    let stride = if (width * height) as f64 / n.max(1) as f64 >= 64.0 {
+        2
+    } else {
+        1
+    };
+    // Raster point (gx, gy) is the centre of the block of pixels from (stride·gx, stride·gy);
+    // the raster covers the blocks (a last partial block included).
+    let (w, h) = (width.div_ceil(stride), height.div_ceil(stride));
+    let raster = Raster {
+        width: w,
+        height: h,
+        supersample: 1,
+        domain: DVec2::new((w * stride) as f64, (h * stride) as f64),
+    };
+    let owners = owner_map(cells, &raster);
+    let block_rows = h.div_ceil(SUM_BLOCKS).max(1);
+    let partial: Vec<Vec<[f64; N]>> = owners
+        .par_chunks(w * block_rows)
+        .enumerate()
+        .map(|(block, owners)| {
+            let mut sums = vec![[0.0f64; N]; n];
+            for (k, &o) in owners.iter().enumerate() {
+                if o == NONE {
+                    continue;
+                }
+                let (gx, gy) = (k % w, block * block_rows + k / w);
+                let s = &mut sums[o as usize];
+                for y in gy * stride..((gy + 1) * stride).min(height) {
+                    for x in gx * stride..((gx + 1) * stride).min(width) {
+                        for (acc, v) in s.iter_mut().zip(value(x, y)) {
+                            *acc += v;
+                        }
+                    }
+                }
+            }
+            sums
+        })
+        .collect();
+    let mut total = vec![[0.0f64; N]; n];
+    for block in partial {
+        for (t, s) in total.iter_mut().zip(block) {
+            for (acc, v) in t.iter_mut().zip(s) {
+                *acc += v;
+            }
+        }
+    }
+    total
+}
+
+/// Fixed number of row blocks for [`pixel_sums`] (not the thread count: determinism).
+const SUM_BLOCKS: usize = 16;
+
 /// The label map: [`owner_map`] as `i32` for export (`.npy`), -1 where no site owns a pixel.
 #[must_use]
 pub fn label_map(cells: &VoronoiCells, raster: &Raster) -> Vec<i32> {
