@@ -94,13 +94,50 @@ pub fn linear_of(rgb: [u8; 3]) -> Linear {
 /// [`pixel_sums`]. A cell that receives no pixel takes the photo's colour at its site.
 #[must_use]
 pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
+    cell_means_and_widths(cells, photo).0
+}
+
+/// [`cell_means`], and every cell's width across its narrowest direction in domain units,
+/// `√(12 λ_min)` of its pixels' position covariance (exact for a strip; a cell without pixels
+/// gets 0).
+#[must_use]
+pub fn cell_means_and_widths(
+    cells: &VoronoiCells,
+    photo: &DynamicImage,
+) -> (Vec<Linear>, Vec<f64>) {
     let rgb = photo.to_rgb8();
     let (pw, ph) = (rgb.width() as usize, rgb.height() as usize);
     let sums = pixel_sums(cells, pw, ph, |x, y| {
         let [r, g, b] = rgb.get_pixel(x as u32, y as u32).0.map(to_linear);
-        [f64::from(r), f64::from(g), f64::from(b), 1.0]
+        let (u, v) = (x as f64 + 0.5, y as f64 + 0.5);
+        [
+            f64::from(r),
+            f64::from(g),
+            f64::from(b),
+            1.0,
+            u,
+            v,
+            u * u,
+            u * v,
+            v * v,
+        ]
     });
-    sums.iter()
+    let widths = sums
+        .iter()
+        .map(|s| {
+            if s[3] <= 0.0 {
+                return 0.0;
+            }
+            let n = s[3];
+            let (mu, mv) = (s[4] / n, s[5] / n);
+            let (cuu, cuv, cvv) = (s[6] / n - mu * mu, s[7] / n - mu * mv, s[8] / n - mv * mv);
+            let half_trace = 0.5 * (cuu + cvv);
+            let least = half_trace - (0.25 * (cuu - cvv).powi(2) + cuv * cuv).sqrt();
+            (12.0 * least.max(0.0)).sqrt()
+        })
+        .collect();
+    let colours = sums
+        .iter()
         .zip(cells.positions())
         .map(|(s, p)| {
             if s[3] > 0.0 {
@@ -111,7 +148,8 @@ pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
                 linear_of(rgb.get_pixel(x, y).0)
             }
         })
-        .collect()
+        .collect();
+    (colours, widths)
 }
 
 /// Colours for sites without a photo: a perceptually ordered ramp (deep blue → teal → sand →

@@ -9,6 +9,7 @@ use crate::field::Tensor;
 use crate::sampling::rng::Rng;
 use glam::DVec2;
 use image::RgbImage;
+use rayon::prelude::*;
 use tiny_skia::{Color, FillRule, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
 /// Where the glyphs go.
@@ -94,12 +95,14 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
     let r = scene.raster;
     let (w, h) = (r.width as u32, r.height as u32);
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
+    let mut underpainting = None;
     if params.underpaint {
         let cells = scene.shade(|_, o| scene.colours[o.site as usize]);
         for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(cells.pixels()) {
             let [cr, cg, cb] = rgb.0;
             *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
         }
+        underpainting = Some(cells);
     } else {
         let bg = params.background;
         pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
@@ -135,13 +138,47 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
             pixmap.stroke_path(&path, &line, &s, t, None);
         }
     }
-    let rgb: Vec<u8> = pixmap
+    let mut rgb: Vec<u8> = pixmap
         .data()
         .chunks_exact(4)
         .flat_map(|px| [px[0], px[1], px[2]])
         .collect();
+    if let (Some(under), Some(_)) = (&underpainting, scene.cells.colour()) {
+        stop_at_edges(&mut rgb, under.as_raw());
+    }
     RgbImage::from_raw(w, h, rgb).expect("w·h RGB pixels")
 }
+
+/// Strokes stop at edges: where a stroke laid over the underpainting of edge-following cells
+/// differs from the cell under it by more than [`EDGE_STOP`] (sRGB, RMS over channels), it has
+/// crossed an edge from a neighbour of another colour, and the cell shows through again
+/// (fully from `EDGE_STOP + EDGE_STOP_RAMP` on, so the stroke's end fades, not cuts). A
+/// stroke among cells of its own colour is untouched; a thin dark line overpainted by strokes
+/// of the light ground around it comes back.
+fn stop_at_edges(painted: &mut [u8], under: &[u8]) {
+    painted
+        .par_chunks_mut(3)
+        .zip(under.par_chunks(3))
+        .for_each(|(p, u)| {
+            let d2: f32 = (0..3)
+                .map(|k| ((f32::from(p[k]) - f32::from(u[k])) / 255.0).powi(2))
+                .sum();
+            let t = ((((d2 / 3.0).sqrt() - EDGE_STOP) / EDGE_STOP_RAMP).clamp(0.0, 1.0)).powi(2);
+            if t > 0.0 {
+                for k in 0..3 {
+                    let v = f32::from(p[k]) + (f32::from(u[k]) - f32::from(p[k])) * t;
+                    p[k] = v.round() as u8;
+                }
+            }
+        });
+}
+
+/// Colour difference (sRGB, RMS over channels) from which a stroke gives way to the cell
+/// under it: bristle shading stays below it (±15 %), a neighbour across an edge above.
+const EDGE_STOP: f32 = 0.12;
+
+/// Over this much more difference the cell shows through fully.
+const EDGE_STOP_RAMP: f32 = 0.1;
 
 /// Bristle streaks of a brush stroke: this many across its width.
 const BRISTLES: usize = 7;

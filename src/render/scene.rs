@@ -3,7 +3,7 @@
 //! [`Scene::shade`], which averages `supersample²` points per pixel in linear light. The looks
 //! import this file; it imports none of them.
 
-use super::colour::{anisotropy_colours, cell_means, to_srgb, Linear};
+use super::colour::{anisotropy_colours, cell_means_and_widths, to_srgb, Linear};
 use super::raster::Raster;
 use super::voronoi::{Owner, VoronoiCells, BORDER_EXACT_PX, NONE};
 use crate::field::TensorField;
@@ -16,6 +16,10 @@ pub struct Scene<'a> {
     pub cells: VoronoiCells<'a>,
     /// Colour of every cell: the photo's mean under it, or a colour map of its ellipse.
     pub colours: Vec<Linear>,
+    /// For edge-following cells, every cell's width across its narrowest direction (domain
+    /// units): a cell carved down to a thin line by an edge is narrower than its ellipse, and
+    /// textures too coarse for it give way to its flat tone.
+    pub thin_widths: Option<Vec<f64>>,
     /// The metric field the samples came from.
     pub field: &'a TensorField,
     /// The photo, if the input was one.
@@ -37,9 +41,12 @@ impl<'a> Scene<'a> {
         height: usize,
         supersample: usize,
     ) -> Self {
-        let colours = match photo {
-            Some(p) => cell_means(&cells, p),
-            None => anisotropy_colours(cells.metrics()),
+        let (colours, widths) = match photo {
+            Some(p) => {
+                let (colours, widths) = cell_means_and_widths(&cells, p);
+                (colours, cells.colour().map(|_| widths))
+            }
+            None => (anisotropy_colours(cells.metrics()), None),
         };
         let raster = Raster {
             width: width.max(1),
@@ -50,6 +57,7 @@ impl<'a> Scene<'a> {
         Scene {
             cells,
             colours,
+            thin_widths: widths,
             field,
             photo,
             pixels_per_unit: raster.pixels_per_unit(),

@@ -200,7 +200,16 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             let centre = scene.cells.positions()[site as usize];
             let cover = coverage(local, centre, &f, site, darkness, params, px);
             let amp = smoothstep(params.fade_anisotropy, f.anisotropy);
-            let cover = darkness + amp * (cover - darkness);
+            let mut cover = darkness + amp * (cover - darkness);
+            if let (Some(widths), TextureKind::Stipple) = (&scene.thin_widths, &params.kind) {
+                // A cell narrower than about one and a half periods of the dot lattice cannot
+                // show its tone with dots (a thin line would catch a few dots, or none): it
+                // takes its flat tone instead, fully from half a period wide. Hatch lines run
+                // along the cell's long axis, so a thin cell still catches one along its length.
+                let period = spacing(f.b, params, px);
+                let thin = ((1.5 * period - widths[site as usize]) / period).clamp(0.0, 1.0);
+                cover += (darkness - cover) * thin as f32;
+            }
             mix(paper, ink, cover)
         };
         if params.border_width > 0.0 {
