@@ -248,11 +248,16 @@ impl CellStats {
     }
 }
 
+/// Largest block side of the owner searches of the assign-and-move rounds: centroids and mean
+/// colours need no pixel-exact borders, and a 12 MP photo's few thousand cells keep hundreds
+/// of blocks each.
+const STATS_STRIDE: usize = 8;
+
 /// Every cell's pixels of `photo` (one pixel per domain unit): count, position and sRGB colour
 /// sums ([`pixel_sums`]).
 fn cell_stats(cells: &VoronoiCells, photo: &image::RgbImage) -> Vec<CellStats> {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
-    pixel_sums(cells, w, h, |x, y| {
+    pixel_sums(cells, w, h, STATS_STRIDE, |x, y| {
         let [r, g, b] = photo
             .get_pixel(x as u32, y as u32)
             .0

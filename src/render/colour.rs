@@ -107,7 +107,7 @@ pub fn cell_means_and_widths(
 ) -> (Vec<Linear>, Vec<f64>) {
     let rgb = photo.to_rgb8();
     let (pw, ph) = (rgb.width() as usize, rgb.height() as usize);
-    let sums = pixel_sums(cells, pw, ph, |x, y| {
+    let sums = pixel_sums(cells, pw, ph, 2, |x, y| {
         let [r, g, b] = rgb.get_pixel(x as u32, y as u32).0.map(to_linear);
         let (u, v) = (x as f64 + 0.5, y as f64 + 0.5);
         [

@@ -209,22 +209,25 @@ pub fn owner_map(cells: &VoronoiCells, raster: &Raster) -> Vec<u32> {
 
 /// Per-cell sums of `value(x, y)` over the pixels of a `width × height` image whose pixels
 /// are domain units (a photo under its own field). When cells average 64 pixels or more,
-/// owners are searched at the centres of 2×2 pixel blocks and the block's pixels go to that
-/// owner: every pixel counts, a quarter of the owner searches, and only pixels next to a
-/// border can land in the neighbouring cell. Sums run in fixed row blocks added in order, so
-/// the result does not depend on the thread count.
+/// owners are searched at the centres of `s × s` pixel blocks and the block's pixels go to
+/// that owner, `s` the largest of 2 to `max_stride` that still leaves 64 blocks per cell on
+/// average: every pixel counts, far fewer owner searches, and only pixels next to a border
+/// can land in the neighbouring cell. Sums run in fixed row blocks added in order, so the
+/// result does not depend on the thread count.
 pub fn pixel_sums<const N: usize, F>(
     cells: &VoronoiCells,
     width: usize,
     height: usize,
+    max_stride: usize,
     value: F,
 ) -> Vec<[f64; N]>
 where
     F: Fn(usize, usize) -> [f64; N] + Sync,
 {
     let n = cells.positions().len();
-    let stride = if (width * height) as f64 / n.max(1) as f64 >= 64.0 {
-        2
+    let per_cell = (width * height) as f64 / n.max(1) as f64;
+    let stride = if per_cell >= 64.0 {
+        ((per_cell / 64.0).sqrt() as usize).clamp(2, max_stride.max(2))
     } else {
         1
     };
