@@ -128,7 +128,11 @@ impl ColourTerm {
         let (x0, y0) = (x as u32, y as u32);
         let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
         let (tx, ty) = ((x - f64::from(x0)) as f32, (y - f64::from(y0)) as f32);
-        let texel = |x: u32, y: u32| self.photo.get_pixel(x, y).0.map(|v| f32::from(v) / 255.0);
+        let raw = self.photo.as_raw();
+        let texel = |x: u32, y: u32| {
+            let i = 3 * (y as usize * w as usize + x as usize);
+            [raw[i], raw[i + 1], raw[i + 2]].map(|v| f32::from(v) / 255.0)
+        };
         let (a, b, c, d) = (texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1));
         let mut out = [[0.0f32; 3]; 3];
         for k in 0..3 {
