@@ -1,0 +1,103 @@
+//! A damaged photo is never painted: real JPEG (baseline and progressive), PNG, TIFF and WebP
+//! files cut at 24 places spread over their whole length must each fail with exit code 2, a
+//! message naming the file, and no output; the whole files paint. (The JPEG decoder fills a
+//! missing tail with grey and reports success, so JPEGs are checked for their end-of-image
+//! marker before decoding.)
+
+use assert_cmd::Command;
+use std::io::Cursor;
+use std::path::Path;
+
+fn bin() -> Command {
+    Command::cargo_bin("anisopaint").unwrap()
+}
+
+/// The test photos: name and bytes.
+fn photos() -> Vec<(&'static str, Vec<u8>)> {
+    let chelsea = image::open("samples/chelsea.png").unwrap().to_rgb8();
+    let encode = |format| {
+        let mut out = Cursor::new(Vec::new());
+        chelsea.write_to(&mut out, format).unwrap();
+        out.into_inner()
+    };
+    vec![
+        (
+            "baseline.jpg",
+            std::fs::read("samples/astronaut.jpg").unwrap(),
+        ),
+        (
+            "progressive.jpg",
+            std::fs::read("tests/photos/chelsea-progressive.jpg").unwrap(),
+        ),
+        ("photo.png", encode(image::ImageFormat::Png)),
+        ("photo.tif", encode(image::ImageFormat::Tiff)),
+        ("photo.webp", encode(image::ImageFormat::WebP)),
+    ]
+}
+
+fn paint(input: &Path, out: &Path) -> assert_cmd::assert::Assert {
+    bin()
+        .arg("paint")
+        .arg(input)
+        .arg("-q")
+        .arg("-o")
+        .arg(out)
+        .assert()
+}
+
+#[test]
+fn cut_photos_fail_with_exit_2_and_no_output_and_whole_ones_paint() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bytes) in photos() {
+        let whole = dir.path().join(name);
+        std::fs::write(&whole, &bytes).unwrap();
+        let out = dir.path().join(format!("{name}.whole.png"));
+        paint(&whole, &out).success();
+        assert!(out.exists(), "{name}: the whole file paints");
+        for k in 0..24 {
+            // From 5 % to 99 % of the length.
+            let fraction = 0.05 + 0.94 * f64::from(k) / 23.0;
+            let cut_at = ((bytes.len() as f64 * fraction) as usize).clamp(1, bytes.len() - 1);
+            let cut = dir.path().join(format!("cut-{cut_at}-{name}"));
+            std::fs::write(&cut, &bytes[..cut_at]).unwrap();
+            let out = dir.path().join(format!("cut-{cut_at}-{name}.png"));
+            let run = paint(&cut, &out).code(2);
+            let stderr = String::from_utf8_lossy(&run.get_output().stderr).into_owned();
+            assert!(
+                stderr.contains(&cut.display().to_string()),
+                "{name} cut at {cut_at}: the message names the file: {stderr}"
+            );
+            if name.ends_with(".jpg") {
+                assert!(
+                    stderr.contains("truncated"),
+                    "{name} cut at {cut_at}: {stderr}"
+                );
+            }
+            assert!(!out.exists(), "{name} cut at {cut_at}: no output");
+        }
+    }
+}
+
+#[test]
+fn a_jpeg_with_data_after_its_end_and_an_embedded_thumbnail_still_paints() {
+    // Bytes after the end-of-image marker are ignored; an APP1 segment holding a whole JPEG
+    // (a thumbnail, with its own end marker) is skipped with its segment.
+    let dir = tempfile::tempdir().unwrap();
+    let photo = std::fs::read("tests/photos/chelsea-progressive.jpg").unwrap();
+    let mut tailed = photo.clone();
+    tailed.extend_from_slice(b"trailing bytes a camera left");
+    assert!(anisopaint::io::jpeg_is_whole(&tailed).is_ok());
+    let mut app1 = vec![0xFF, 0xE1];
+    app1.extend_from_slice(&((photo.len() + 2) as u16).to_be_bytes());
+    app1.extend_from_slice(&photo);
+    let mut with_thumbnail = vec![0xFF, 0xD8];
+    with_thumbnail.extend_from_slice(&app1);
+    with_thumbnail.extend_from_slice(&photo[2..]);
+    assert!(anisopaint::io::jpeg_is_whole(&with_thumbnail).is_ok());
+    // Cut inside the real image's scan, after the thumbnail's own end marker: still refused.
+    let cut = &with_thumbnail[..with_thumbnail.len() - photo.len() / 2];
+    assert!(anisopaint::io::jpeg_is_whole(cut).is_err());
+    let path = dir.path().join("tailed.jpg");
+    std::fs::write(&path, &tailed).unwrap();
+    paint(&path, &dir.path().join("out.png")).success();
+}
