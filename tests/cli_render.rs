@@ -255,15 +255,20 @@ fn explore_commands_take_presets_and_go_through_paints_pipeline() {
     }
     // `sample` with a preset uses the preset's metric: strokes has larger, longer ellipses than
     // the defaults, so fewer samples; `--set` changes it again.
-    let count = |extra: &[&str]| {
-        let out = d("s.csv");
+    // What `command samples/chelsea.png --out FILE extra…` writes.
+    let written = |command: &str, file: &str, extra: &[&str]| {
+        let out = d(file);
         bin()
-            .args(["sample", "samples/chelsea.png", "--out"])
+            .args([command, "samples/chelsea.png", "--out"])
             .arg(&out)
             .args(extra)
             .assert()
             .success();
-        std::fs::read_to_string(&out).unwrap().lines().count() - 1
+        std::fs::read(&out).unwrap()
+    };
+    let count = |extra: &[&str]| {
+        let csv = written("sample", "s.csv", extra);
+        csv.iter().filter(|&&b| b == b'\n').count() - 1
     };
     let (plain, strokes) = (count(&[]), count(&["-s", "strokes"]));
     let finer = count(&["-s", "strokes", "--set", "metric.max_size=0.01"]);
@@ -273,16 +278,7 @@ fn explore_commands_take_presets_and_go_through_paints_pipeline() {
         "max_size=0.01 {finer} vs strokes {strokes}"
     );
     // `field` with a preset writes the preset's metric.
-    let metric = |extra: &[&str]| {
-        let out = d("m.npy");
-        bin()
-            .args(["field", "samples/chelsea.png", "--out"])
-            .arg(&out)
-            .args(extra)
-            .assert()
-            .success();
-        std::fs::read(&out).unwrap()
-    };
+    let metric = |extra: &[&str]| written("field", "m.npy", extra);
     assert_ne!(metric(&[]), metric(&["-s", "strokes"]));
     assert_eq!(
         metric(&[]),
