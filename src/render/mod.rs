@@ -1,12 +1,13 @@
-//! Pictures: the generalized Voronoi cells of the samples ([`voronoi`], paper section 6),
-//! rasterised onto the output ([`raster`]), and the looks drawn from them: a [`Scene`] holds
+//! Pictures: the generalized Voronoi cells of the samples ([`voronoi`], paper section 6), or
+//! cells that stop at the photo's edges ([`cells`]), rasterised onto the output ([`raster`]),
+//! and the looks drawn from them: a [`Scene`] holds
 //! what every look reads ([`scene`]); [`Look`] picks one ([`look`]): mosaics ([`mosaic`]),
 //! textured cells ([`texture`]), glyphs ([`glyphs`], paper 7.1), fabric and LIC ([`fabric`],
 //! paper 7.3), in linear-light colour ([`colour`]); vector output ([`svg`]) of cells traced
 //! from the label map ([`trace`]) and of glyphs; contact sheets ([`sheet`]) with a small
 //! bitmap [`font`]; previews of fields and samplings ([`preview`]). Everything runs on the CPU
 //! with rayon, at any output size: the cells are resolution independent. Imports go one way:
-//! `look` → the looks → `scene` → `raster` → `voronoi`.
+//! `look` → the looks → `scene` → `raster` → `voronoi`, and `cells` → `raster`, `voronoi`.
 
 pub mod cells;
 pub mod colour;
