@@ -32,7 +32,9 @@ pub enum Outcome {
 }
 
 /// File extensions taken from folders (any file named explicitly is tried).
-pub const IMAGE_EXTENSIONS: [&str; 6] = ["png", "jpg", "jpeg", "tif", "tiff", "webp"];
+pub const IMAGE_EXTENSIONS: [&str; 13] = [
+    "png", "jpg", "jpeg", "tif", "tiff", "webp", "gif", "bmp", "pnm", "ppm", "pgm", "pbm", "pam",
+];
 
 /// Memory the running items may use together, estimated from their pixel counts: a large
 /// photo does not run beside others when together they would exceed it.
@@ -82,21 +84,15 @@ pub fn plan(
         })
         .collect();
     items.sort_by(|a, b| a.output.cmp(&b.output).then(a.input.cmp(&b.input)));
-    // Two inputs with the same stem in one folder (a.jpg, a.png): the later keeps its
-    // extension in the name.
-    for i in 1..items.len() {
-        if items[i].output == items[i - 1].output {
-            let name = items[i]
-                .input
-                .file_name()
-                .unwrap_or_default()
-                .to_string_lossy();
-            let parent = items[i]
-                .output
-                .parent()
-                .unwrap_or(Path::new(""))
-                .to_path_buf();
-            items[i].output = parent.join(format!("{name}.{style}.png"));
+    // Inputs with the same stem in one folder (a.jpg, a.png, a.gif): all but the first keep
+    // their extension in the name.
+    let mut used = std::collections::HashSet::new();
+    for item in &mut items {
+        if !used.insert(item.output.clone()) {
+            let name = item.input.file_name().unwrap_or_default().to_string_lossy();
+            let parent = item.output.parent().unwrap_or(Path::new("")).to_path_buf();
+            item.output = parent.join(format!("{name}.{style}.png"));
+            used.insert(item.output.clone());
         }
     }
     Ok(items

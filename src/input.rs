@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// What the user named as input.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Input {
-    /// A photo (PNG, JPEG, TIFF, WebP), recognised by content.
+    /// A photo (PNG, JPEG, TIFF, WebP, GIF (its first frame), BMP, PNM), recognised by content.
     Photo(PathBuf),
     /// A `.npy` tensor field `(H, W, 3)`.
     Npy(PathBuf),

@@ -51,7 +51,7 @@ pub fn read_photo(path: &Path) -> Result<DynamicImage> {
     if reader.format().is_none() {
         return Err(Error::Decode {
             path: path.into(),
-            reason: "not a PNG, JPEG, TIFF or WebP image".into(),
+            reason: "not a PNG, JPEG, TIFF, WebP, GIF, BMP or PNM image".into(),
         });
     }
     if reader.format() == Some(image::ImageFormat::Jpeg) {

@@ -36,7 +36,7 @@ fn bad_files(input: &Path) -> Vec<(&'static str, &'static str)> {
     let mut bad = vec![
         ("broken.jpg", "cannot decode"),
         ("empty.png", "empty file"),
-        ("notes.jpg", "not a PNG, JPEG, TIFF or WebP"),
+        ("notes.jpg", "not a PNG, JPEG, TIFF, WebP, GIF, BMP or PNM"),
         ("bomb.png", "too large"),
     ];
     let locked = input.join("locked.png");
@@ -256,4 +256,33 @@ fn temporary_files_of_killed_runs_are_removed_others_kept() {
         running.exists() && elsewhere.exists(),
         "others' files are kept"
     );
+}
+
+#[test]
+fn gif_bmp_and_pnm_photos_in_a_folder_are_painted() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    let cat = image::open("samples/chelsea.png").unwrap();
+    for name in ["cat.gif", "cat.bmp", "cat.ppm"] {
+        cat.save(input.join(name)).unwrap();
+    }
+    let out = dir.path().join("out");
+    bin()
+        .args(["batch", "-q", "-o"])
+        .arg(&out)
+        .arg(&input)
+        .assert()
+        .success();
+    let mut written: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    // Three inputs with the same stem: the later ones keep their extension in the name.
+    assert_eq!(written.len(), 3, "{written:?}");
+    for name in &written {
+        let img = image::open(out.join(name)).unwrap();
+        assert_eq!((img.width(), img.height()), (451, 300), "{name}");
+    }
 }

@@ -32,6 +32,9 @@ fn photos() -> Vec<(&'static str, Vec<u8>)> {
         ("photo.png", encode(image::ImageFormat::Png)),
         ("photo.tif", encode(image::ImageFormat::Tiff)),
         ("photo.webp", encode(image::ImageFormat::WebP)),
+        ("photo.gif", encode(image::ImageFormat::Gif)),
+        ("photo.bmp", encode(image::ImageFormat::Bmp)),
+        ("photo.ppm", encode(image::ImageFormat::Pnm)),
     ]
 }
 

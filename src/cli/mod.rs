@@ -132,7 +132,7 @@ impl PresetArgs {
 /// Options shared by every command that reads an input.
 #[derive(Debug, Args)]
 struct InputArgs {
-    /// A photo (PNG, JPEG, TIFF, WebP), a .npy tensor field (H, W, 3) of (t11, t12, t22), or
+    /// A photo (PNG, JPEG, TIFF, WebP, GIF, BMP, PNM), a .npy tensor field (H, W, 3) of (t11, t12, t22), or
     /// analytic:NAME[:key=value,...] with NAME one of constant, circular, degenerate-point,
     /// two-point-load.
     input: String,
