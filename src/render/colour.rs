@@ -94,7 +94,40 @@ pub fn linear_of(rgb: [u8; 3]) -> Linear {
 /// [`pixel_sums`]. A cell that receives no pixel takes the photo's colour at its site.
 #[must_use]
 pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
-    cell_means_and_widths(cells, photo).0
+    let rgb = photo.to_rgb8();
+    let sums = pixel_sums(
+        cells,
+        rgb.width() as usize,
+        rgb.height() as usize,
+        2,
+        |x, y| {
+            let [r, g, b] = rgb.get_pixel(x as u32, y as u32).0.map(to_linear);
+            [f64::from(r), f64::from(g), f64::from(b), 1.0]
+        },
+    );
+    means_of(&sums, cells, &rgb)
+}
+
+/// Mean colours from per-cell sums whose first four entries are the linear colour sums and
+/// the pixel count; a cell without pixels takes the photo's colour at its site.
+fn means_of<const N: usize>(
+    sums: &[[f64; N]],
+    cells: &VoronoiCells,
+    rgb: &image::RgbImage,
+) -> Vec<Linear> {
+    let (pw, ph) = (rgb.width() as usize, rgb.height() as usize);
+    sums.iter()
+        .zip(cells.positions())
+        .map(|(s, p)| {
+            if s[3] > 0.0 {
+                [s[0] / s[3], s[1] / s[3], s[2] / s[3]].map(|v| v as f32)
+            } else {
+                let x = (p.x as usize).min(pw - 1) as u32;
+                let y = (p.y as usize).min(ph - 1) as u32;
+                linear_of(rgb.get_pixel(x, y).0)
+            }
+        })
+        .collect()
 }
 
 /// [`cell_means`], and every cell's width across its narrowest direction in domain units,
@@ -136,20 +169,7 @@ pub fn cell_means_and_widths(
             (12.0 * least.max(0.0)).sqrt()
         })
         .collect();
-    let colours = sums
-        .iter()
-        .zip(cells.positions())
-        .map(|(s, p)| {
-            if s[3] > 0.0 {
-                [s[0] / s[3], s[1] / s[3], s[2] / s[3]].map(|v| v as f32)
-            } else {
-                let x = (p.x as usize).min(pw - 1) as u32;
-                let y = (p.y as usize).min(ph - 1) as u32;
-                linear_of(rgb.get_pixel(x, y).0)
-            }
-        })
-        .collect();
-    (colours, widths)
+    (means_of(&sums, cells, &rgb), widths)
 }
 
 /// Colours for sites without a photo: a perceptually ordered ramp (deep blue → teal → sand →

@@ -3,7 +3,7 @@
 //! [`Scene::shade`], which averages `supersample²` points per pixel in linear light. The looks
 //! import this file; it imports none of them.
 
-use super::colour::{anisotropy_colours, cell_means_and_widths, to_srgb, Linear};
+use super::colour::{anisotropy_colours, cell_means, cell_means_and_widths, to_srgb, Linear};
 use super::raster::Raster;
 use super::voronoi::{Owner, VoronoiCells, BORDER_EXACT_PX, NONE};
 use crate::field::TensorField;
@@ -41,12 +41,14 @@ impl<'a> Scene<'a> {
         height: usize,
         supersample: usize,
     ) -> Self {
-        let (colours, widths) = match photo {
-            Some(p) => {
+        // Widths only matter (and are only measured) for edge-following cells.
+        let (colours, widths) = match (photo, cells.colour()) {
+            (Some(p), Some(_)) => {
                 let (colours, widths) = cell_means_and_widths(&cells, p);
-                (colours, cells.colour().map(|_| widths))
+                (colours, Some(widths))
             }
-            None => (anisotropy_colours(cells.metrics()), None),
+            (Some(p), None) => (cell_means(&cells, p), None),
+            (None, _) => (anisotropy_colours(cells.metrics()), None),
         };
         let raster = Raster {
             width: width.max(1),
@@ -70,7 +72,8 @@ impl<'a> Scene<'a> {
     ///
     /// The owner is found at the pixel's centre, with the distance to the border between it
     /// and the runner-up ([`Owner::border_px`], from the first-order border function
-    /// `f = δ_j − δ_i`, whose zero is the border). Supersampling is adaptive: only a pixel that
+    /// `f = δ_j − δ_i`, or `D_j − D_i` with a colour term, whose zero is the border).
+    /// Supersampling is adaptive: only a pixel that
     /// a border may cross (centre less than [`BORDER_MARGIN_PX`] from it) is shaded at all
     /// `supersample²` points, each owned by whichever side of the linearised border it lies
     /// on. Inside a cell one evaluation suffices: the textures anti-alias themselves over the
