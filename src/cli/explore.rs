@@ -8,7 +8,7 @@
 
 use super::bars::StageBars;
 use super::{
-    check_output, check_raster_format, is_svg, write_svg, InputArgs, PresetArgs, VerbosityArgs,
+    check_outputs, check_raster_format, is_svg, write_svg, InputArgs, PresetArgs, VerbosityArgs,
 };
 use crate::error::{Error, Result};
 use crate::input;
@@ -17,7 +17,7 @@ use crate::progress::{timed, Stage};
 use crate::render::{field_preview, PreviewMode, RenderSize};
 use clap::{Args, ValueEnum};
 use image::DynamicImage;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 pub(super) const RENDER_EXAMPLES: &str = "\
 Examples:
@@ -38,7 +38,8 @@ pub(super) struct RenderArgs {
     /// The look, over the preset's (mosaic without a preset).
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(crate::render::Look::NAMES))]
     look: Option<String>,
-    /// Output image (PNG or JPEG).
+    /// Output image (PNG, JPEG, TIFF, WebP, or SVG for the vector form only; `-`: a PNG on
+    /// standard output).
     #[arg(short, long)]
     out: PathBuf,
     /// Reuse samples written by `sample --out` instead of sampling again.
@@ -181,9 +182,10 @@ pub(super) struct SampleArgs {
 pub(super) fn run_field(args: &FieldArgs) -> Result<()> {
     let (input, mut options) = args.input.plan()?;
     options.metric = args.preset.load()?.metric()?;
-    for out in args.out.iter().chain(&args.preview) {
-        check_output(&input, out)?;
-    }
+    check_outputs(
+        &input,
+        args.out.iter().chain(&args.preview).map(PathBuf::as_path),
+    )?;
     let loaded = input::load_field(&input, &options)?;
     if let Some(out) = &args.out {
         let which = if args.raw {
@@ -211,14 +213,16 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
     let (input, mut options) = args.input.plan()?;
     let preset = args.preset.load()?;
     options.metric = preset.metric()?;
-    let json_path = args.report_json.as_ref().filter(|p| p.as_os_str() != "-");
-    for out in [&args.out, &args.triangles, &args.preview]
-        .into_iter()
-        .flatten()
-        .chain(json_path)
-    {
-        check_output(&input, out)?;
-    }
+    // The text report prints on standard output, like an output named `-`.
+    let report_text = (args.report || args.compare).then_some(Path::new(crate::io::STDOUT));
+    check_outputs(
+        &input,
+        [&args.out, &args.triangles, &args.preview, &args.report_json]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .chain(report_text),
+    )?;
     let defaults = preset.sampler();
     let params = SamplerParams {
         iterations: args.iterations.unwrap_or(defaults.iterations),
@@ -287,23 +291,20 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
     }
     if let Some(path) = &args.report_json {
         let text = report::json(&result.stats, Some(&relaxed), &labelled);
-        if path.as_os_str() == "-" {
-            println!("{text}");
-        } else {
-            crate::io::write_text(path, &format!("{text}\n"))?;
-        }
+        crate::io::write_text(path, &format!("{text}\n"))?;
     }
     Ok(())
 }
 
 pub(super) fn run_render(args: &RenderArgs) -> Result<()> {
     let (input, options) = args.input.plan()?;
-    for out in std::iter::once(&args.out)
-        .chain(&args.labels)
-        .chain(&args.svg)
-    {
-        check_output(&input, out)?;
-    }
+    check_outputs(
+        &input,
+        std::iter::once(&args.out)
+            .chain(&args.labels)
+            .chain(&args.svg)
+            .map(PathBuf::as_path),
+    )?;
     // `-o picture.svg` asks for the vector form only.
     let svg_only = is_svg(&args.out);
     let svg_path = if svg_only {

@@ -237,8 +237,27 @@ impl InputArgs {
     }
 }
 
+/// Refuses outputs over the input file, and more than one output on standard output (`-`).
+fn check_outputs<'a>(input: &Input, outs: impl IntoIterator<Item = &'a Path>) -> Result<()> {
+    let mut on_stdout = 0;
+    for out in outs {
+        check_output(input, out)?;
+        on_stdout += usize::from(crate::io::is_stdout(out));
+    }
+    if on_stdout > 1 {
+        return Err(Error::param(
+            "output",
+            "only one output can go to standard output (-)",
+        ));
+    }
+    Ok(())
+}
+
 /// Refuses to write an output over the input file.
 fn check_output(input: &Input, out: &Path) -> Result<()> {
+    if crate::io::is_stdout(out) {
+        return Ok(());
+    }
     if let Input::Photo(p) | Input::Npy(p) = input {
         let same = match (p.canonicalize(), out.canonicalize()) {
             (Ok(a), Ok(b)) => a == b,

@@ -3,7 +3,9 @@
 //! PNG was made).
 
 use super::bars::{self, StageBars};
-use super::{check_output, check_raster_format, is_svg, write_svg, InputArgs, VerbosityArgs};
+use super::{
+    check_output, check_outputs, check_raster_format, is_svg, write_svg, InputArgs, VerbosityArgs,
+};
 use crate::error::{Error, Result};
 use crate::input::Input;
 use crate::paint::{paint_observed, save_painting, Extras, PaintRecord, Recipe};
@@ -32,6 +34,7 @@ pub(super) const PAINT_EXAMPLES: &str = "\
 Examples:
   anisopaint paint samples/astronaut.jpg                 # mosaic, writes samples/astronaut.mosaic.png
   anisopaint paint photo.jpg -s pen-hatch -o ink.png
+  anisopaint paint - -o - < photo.jpg > painting.png     # standard input and output
   anisopaint paint photo.jpg -s crosshatch --set look.lines_per_cell=6 --seed 3
   anisopaint paint photo.jpg -s my-style.toml
   anisopaint paint analytic:two-point-load -s fabric
@@ -45,7 +48,8 @@ pub(super) struct PaintArgs {
     #[arg(short, long, default_value = crate::style::DEFAULT_STYLE)]
     style: String,
     /// Output image (PNG, JPEG, TIFF, WebP, or SVG for the vector form only); default
-    /// INPUT-STEM.STYLE.png beside the input.
+    /// INPUT-STEM.STYLE.png beside the input. `-` writes a PNG to standard output; a device
+    /// or named pipe is written in place; a symbolic link keeps pointing at the new picture.
     #[arg(short, long)]
     out: Option<PathBuf>,
     /// Seed of the sampler (overrides the preset's).
@@ -148,9 +152,14 @@ pub(super) fn run_paint(args: &PaintArgs) -> Result<()> {
     let recipe = Recipe::from_preset(&preset, options, args.seed)?;
     let out = match &args.out {
         Some(out) => out.clone(),
+        None if input == Input::Photo(crate::io::STDOUT.into()) => {
+            return Err(Error::param(
+                "--out",
+                "the input is standard input: name the output (-o - for standard output)",
+            ))
+        }
         None => default_output(&input, &preset.name),
     };
-    check_output(&input, &out)?;
     // `-o picture.svg` asks for the vector form only.
     let svg_only = is_svg(&out);
     let svg_path = if svg_only {
@@ -159,9 +168,7 @@ pub(super) fn run_paint(args: &PaintArgs) -> Result<()> {
         check_raster_format(&out)?;
         args.svg.as_deref()
     };
-    if let Some(svg) = svg_path {
-        check_output(&input, svg)?;
-    }
+    check_outputs(&input, std::iter::once(out.as_path()).chain(svg_path))?;
     let bars = StageBars::new(args.verbosity.get());
     let extras = Extras {
         svg: svg_path.is_some(),

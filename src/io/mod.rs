@@ -1,15 +1,19 @@
 //! Reading inputs and writing outputs safely: photos (with a pixel limit against decompression
-//! bombs, EXIF orientation applied), `.npy` tensor fields `(H, W, 3)` of float32/float64, and
-//! atomic writes (temporary file in the target folder, then rename) so that no half-written
-//! output is ever left behind.
+//! bombs, EXIF orientation applied, truncated files refused), `.npy` tensor fields `(H, W, 3)`
+//! of float32/float64, CSV, label maps and PNGs with text chunks. Every output goes through
+//! [`write_atomic`] (`output.rs`): standard output for `-`, devices and pipes in place, regular
+//! files through a temporary file and a rename, so no half-written output is ever left behind.
 
 use crate::error::{Error, Result};
 use crate::field::{Tensor, TensorField};
 use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
 use npyz::WriterBuilder;
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Write};
+use std::io::{BufReader, Read};
 use std::path::Path;
+
+mod output;
+pub use output::{is_stdout, remove_stale_partials, write_atomic, STDOUT};
 
 /// Largest photo or field we accept, in pixels (width × height): 150 megapixels. A larger
 /// image is refused before it is decoded.
@@ -19,10 +23,33 @@ pub const MAX_PIXELS: u64 = 150_000_000;
 pub const MAX_SIDE: u32 = 1 << 16;
 
 /// Decodes a photo, refusing images over [`MAX_PIXELS`] before any pixel is decoded, and
-/// applies its EXIF orientation. The format is read from the file's content, not its name.
+/// applies its EXIF orientation. The format is read from the file's content, not its name;
+/// `-` reads standard input. A file cut short is refused, whatever the decoder would make of it.
 pub fn read_photo(path: &Path) -> Result<DynamicImage> {
-    let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    if file.metadata().map_err(|e| Error::io(path, e))?.len() == 0 {
+    let bytes = if is_stdout(path) {
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .read_to_end(&mut bytes)
+            .map_err(|e| Error::io(STDIN_NAME, e))?;
+        bytes
+    } else {
+        std::fs::read(path).map_err(|e| Error::io(path, e))?
+    };
+    let path = if is_stdout(path) {
+        Path::new(STDIN_NAME)
+    } else {
+        path
+    };
+    decode_photo(path, &bytes)
+}
+
+/// How messages name standard input.
+const STDIN_NAME: &str = "standard input";
+
+/// Decodes the bytes of a photo read from `path` (named in errors).
+fn decode_photo(path: &Path, bytes: &[u8]) -> Result<DynamicImage> {
+    if bytes.is_empty() {
         return Err(Error::Decode {
             path: path.into(),
             reason: "empty file (0 bytes)".into(),
@@ -45,7 +72,7 @@ pub fn read_photo(path: &Path) -> Result<DynamicImage> {
             reason: other.to_string(),
         },
     };
-    let mut reader = ImageReader::new(BufReader::new(file))
+    let mut reader = ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?;
     if reader.format().is_none() {
@@ -57,8 +84,7 @@ pub fn read_photo(path: &Path) -> Result<DynamicImage> {
     if reader.format() == Some(image::ImageFormat::Jpeg) {
         // The JPEG decoder fills a missing tail with grey and reports success: check that
         // the file is whole before decoding it.
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        jpeg_is_whole(&bytes).map_err(|reason| Error::Decode {
+        jpeg_is_whole(bytes).map_err(|reason| Error::Decode {
             path: path.into(),
             reason,
         })?;
@@ -424,95 +450,8 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_atomic(path, |w| w.write_all(text.as_bytes()))
 }
 
-const PARTIAL_PREFIX: &str = ".anisopaint-";
-const PARTIAL_SUFFIX: &str = ".partial";
-
-/// Name prefix of temporary files: `.anisopaint-HOST-PID-`, so that a later run can tell the
-/// ones left behind by a process of this machine that no longer runs.
-fn temp_prefix() -> String {
-    format!("{PARTIAL_PREFIX}{}-{}-", host_name(), std::process::id())
-}
-
-/// This machine's name (Linux), or `host`.
-fn host_name() -> String {
-    std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .map(|h| h.trim().to_string())
-        .ok()
-        .filter(|h| !h.is_empty())
-        .unwrap_or_else(|| "host".into())
-}
-
-/// Removes the temporary files under `dir` (and its subfolders) that a process of this
-/// machine left when it was killed: a file named by [`write_atomic`] whose process no longer
-/// runs. Files of running processes, and of other machines writing to a shared folder, are
-/// left alone. Linux only (a process is looked up in `/proc`); elsewhere nothing is removed.
-/// Returns how many files were removed.
-pub fn remove_stale_partials(dir: &Path) -> usize {
-    if !Path::new("/proc/self").exists() {
-        return 0;
-    }
-    let host = host_name();
-    let mut removed = 0;
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return 0;
-    };
-    for entry in entries.flatten() {
-        let path = entry.path();
-        if path.is_dir() {
-            removed += remove_stale_partials(&path);
-            continue;
-        }
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let Some(middle) = name
-            .strip_prefix(PARTIAL_PREFIX)
-            .and_then(|n| n.strip_suffix(PARTIAL_SUFFIX))
-        else {
-            continue;
-        };
-        // HOST-PID-RANDOM; the host name may hold dashes, the others do not.
-        let mut parts = middle.rsplitn(3, '-');
-        let (_random, pid, file_host) = (parts.next(), parts.next(), parts.next());
-        let Some(pid) = pid.and_then(|p| p.parse::<u32>().ok()) else {
-            continue;
-        };
-        let alive = Path::new("/proc").join(pid.to_string()).exists();
-        if file_host == Some(host.as_str()) && !alive && std::fs::remove_file(&path).is_ok() {
-            removed += 1;
-        }
-    }
-    removed
-}
-
-/// Runs `write` on a buffered temporary file beside `path`, then renames it to `path`. On
-/// any error the temporary file is removed and `path` is untouched.
-pub fn write_atomic(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<&mut File>) -> std::io::Result<()>,
-) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut builder = tempfile::Builder::new();
-    let prefix = temp_prefix();
-    builder.prefix(&prefix).suffix(PARTIAL_SUFFIX);
-    #[cfg(unix)]
-    {
-        // Ordinary file permissions (the umask applies), not tempfile's private 0600.
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e))?;
-    {
-        let mut w = BufWriter::new(tmp.as_file_mut());
-        write(&mut w).map_err(|e| Error::io(path, e))?;
-        w.flush().map_err(|e| Error::io(path, e))?;
-    }
-    tmp.persist(path).map_err(|e| Error::io(path, e.error))?;
-    Ok(())
-}
-
-/// Encodes `img` to `path` atomically; the format follows the extension (PNG when unknown).
+/// Encodes `img` to `path` ([`write_atomic`]); the format follows the extension (PNG when
+/// unknown, and for standard output).
 pub fn save_image(path: &Path, img: &DynamicImage) -> Result<()> {
     let format = image::ImageFormat::from_path(path).unwrap_or(image::ImageFormat::Png);
     let converted;
@@ -523,19 +462,12 @@ pub fn save_image(path: &Path, img: &DynamicImage) -> Result<()> {
     } else {
         img
     };
-    let mut encode_error = None;
-    let result = write_atomic(path, |w| {
-        img.write_to(w, format).map_err(|e| {
-            let msg = e.to_string();
-            encode_error = Some(msg.clone());
-            std::io::Error::other(msg)
-        })
-    });
-    match (result, encode_error) {
-        (Err(_), Some(reason)) => Err(Error::Encode {
+    // Encoded in memory first: some encoders seek, and pipes and standard output cannot.
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, format)
+        .map_err(|e| Error::Encode {
             path: path.into(),
-            reason,
-        }),
-        (r, _) => r,
-    }
+            reason: e.to_string(),
+        })?;
+    write_atomic(path, |w| w.write_all(bytes.get_ref()))
 }
