@@ -34,6 +34,33 @@ fn styles_lists_and_shows_the_presets() {
     let shown = String::from_utf8(out.get_output().stdout.clone()).unwrap();
     assert_eq!(shown, anisopaint::style::built_in("pen-hatch").unwrap());
     bin().args(["styles", "show", "nope"]).assert().code(2);
+    // --full: the effective preset, `extends` followed, ready to save and paint with.
+    let dir = tempfile::tempdir().unwrap();
+    let full = bin()
+        .args([
+            "styles",
+            "show",
+            "crosshatch",
+            "--full",
+            "--set",
+            "look.gamma=1.5",
+        ])
+        .assert()
+        .success();
+    let text = String::from_utf8(full.get_output().stdout.clone()).unwrap();
+    assert!(!text.lines().any(|l| l.starts_with("extends")), "{text}");
+    assert!(text.contains("gamma = 1.5"), "{text}");
+    let saved = dir.path().join("mine.toml");
+    std::fs::write(&saved, &text).unwrap();
+    let mut expected = anisopaint::style::load("crosshatch").unwrap();
+    anisopaint::style::apply_sets(&mut expected, &["look.gamma=1.5".into()]).unwrap();
+    let mine = anisopaint::style::load(saved.to_str().unwrap()).unwrap();
+    assert_eq!(mine.look().unwrap(), expected.look().unwrap());
+    assert_eq!(mine.metric().unwrap(), expected.metric().unwrap());
+    bin()
+        .args(["styles", "show", "mosaic", "--set", "look.relief=0.2"])
+        .assert()
+        .code(2);
 }
 
 #[test]

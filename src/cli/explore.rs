@@ -223,7 +223,7 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
             .map(PathBuf::as_path)
             .chain(report_text),
     )?;
-    let defaults = preset.sampler();
+    let defaults = preset.sampler()?;
     let params = SamplerParams {
         iterations: args.iterations.unwrap_or(defaults.iterations),
         seed: args.seed.unwrap_or(defaults.seed),

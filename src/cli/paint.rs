@@ -18,6 +18,7 @@ pub(super) const STYLES_EXAMPLES: &str = "\
 Examples:
   anisopaint styles                                   # names and one-line descriptions
   anisopaint styles show pen-hatch > my-ink.toml      # a preset to copy and edit
+  anisopaint styles show my-ink.toml --full           # every key it paints with, extends followed
   anisopaint paint photo.jpg -s my-ink.toml";
 
 pub(super) const INFO_EXAMPLES: &str = "\
@@ -115,10 +116,17 @@ pub(super) struct StylesArgs {
 
 #[derive(Debug, Subcommand)]
 pub(super) enum StylesAction {
-    /// Print a preset's full TOML.
+    /// Print a built-in preset's TOML, or with --full any preset with every key it paints with.
     Show {
-        /// A built-in preset name.
+        /// A built-in preset name (or, with --full, a .toml file).
         name: String,
+        /// Every key the look reads, with the value it paints with: `extends` followed and
+        /// the defaults filled in, ready to copy into a file.
+        #[arg(long)]
+        full: bool,
+        /// With --full: override keys first, as `paint --set` does (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE", requires = "full")]
+        sets: Vec<String>,
     },
 }
 
@@ -131,7 +139,12 @@ pub(super) fn run_styles(args: &StylesArgs) -> Result<()> {
                 println!("{name:<12} {description}");
             }
         }
-        Some(StylesAction::Show { name }) => {
+        Some(StylesAction::Show { name, full, sets }) if *full => {
+            let mut preset = load(name)?;
+            crate::style::apply_sets(&mut preset, sets)?;
+            print!("{}", crate::style::full_toml(&preset)?);
+        }
+        Some(StylesAction::Show { name, .. }) => {
             let text = built_in(name).ok_or_else(|| {
                 let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
                 Error::param(

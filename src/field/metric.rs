@@ -84,8 +84,14 @@ impl MetricParams {
                 ))
             }
         };
-        positive("min_size", self.min_size)?;
-        positive("max_size", self.max_size)?;
+        for (key, v) in [("min_size", self.min_size), ("max_size", self.max_size)] {
+            if !(v > 0.0 && v <= 1.0) {
+                return Err(Error::param(
+                    format!("metric.{key}"),
+                    format!("{v} must be in (0, 1] (a fraction of the image diagonal)"),
+                ));
+            }
+        }
         positive("detail_gamma", self.detail_gamma)?;
         positive("gradation", self.gradation)?;
         if self.min_size > self.max_size {

@@ -45,7 +45,7 @@ impl Recipe {
     /// The recipe of `preset`: its metric, sampler and look over `field`'s other options
     /// (how `.npy` files are read, the analytic domain), with `seed` over the preset's.
     pub fn from_preset(preset: &Preset, field: FieldOptions, seed: Option<u64>) -> Result<Recipe> {
-        let mut sampler = preset.sampler();
+        let mut sampler = preset.sampler()?;
         if let Some(seed) = seed {
             sampler.seed = seed;
         }
@@ -60,7 +60,7 @@ impl Recipe {
             },
             sampler,
             look,
-            supersample: preset.supersample(),
+            supersample: preset.supersample()?,
             cells: preset.cells()?,
         })
     }

@@ -1,8 +1,8 @@
 //! A preset's keys converted into the library's parameters: [`MetricParams`] (photo → metric,
 //! paper sections 3-4), [`SamplerParams`] (section 5) and the [`Look`] with its parameters
-//! (sections 6-7). Keys a look does not use are ignored; numeric keys are clamped to the
-//! ranges their looks accept; colours, shapes and placements are parsed with errors naming the
-//! key.
+//! (sections 6-7). Keys a look does not use are ignored; every numeric key is checked against
+//! the range its look accepts, and colours, kinds, shapes and placements are parsed, with
+//! errors naming the key, the value and what is allowed.
 
 use super::preset::{Preset, BUILT_IN_TEXTURES};
 use crate::error::{Error, Result};
@@ -52,6 +52,32 @@ fn colour(key: &str, v: &str) -> Result<[u8; 3]> {
     Ok([byte(0)?, byte(2)?, byte(4)?])
 }
 
+/// `value`, or `default` when the preset leaves it out, checked against `[lo, hi]`: NaN and
+/// values outside are errors naming the key, the value and the range (a preset's numbers are
+/// never clamped in silence).
+fn ranged<T: PartialOrd + std::fmt::Display + Copy>(
+    key: &str,
+    value: Option<T>,
+    default: T,
+    (lo, hi): (T, T),
+) -> Result<T> {
+    let v = value.unwrap_or(default);
+    if lo <= v && v <= hi {
+        Ok(v)
+    } else {
+        Err(Error::param(key, format!("{v} must be in [{lo}, {hi}]")))
+    }
+}
+
+/// Most relaxation iterations a preset may ask for: the paper never needed more than 1000, and
+/// a typo of a few more zeros should be an error, not a run of hours.
+pub const MAX_ITERATIONS: usize = 10_000;
+
+/// The range of a width in output pixels (borders, outlines).
+const WIDTH_PX: (f32, f32) = (0.0, 50.0);
+/// The range of a share, a weight or an amount of 0 to 1.
+const UNIT: (f32, f32) = (0.0, 1.0);
+
 impl Preset {
     /// The metric parameters: defaults with the preset's keys.
     pub fn metric(&self) -> Result<MetricParams> {
@@ -70,16 +96,20 @@ impl Preset {
         Ok(p)
     }
 
-    /// The sampler parameters.
-    #[must_use]
-    pub fn sampler(&self) -> SamplerParams {
+    /// The sampler parameters: `sampler.iterations` 0 to [`MAX_ITERATIONS`], any seed.
+    pub fn sampler(&self) -> Result<SamplerParams> {
         let s = &self.file.sampler;
         let d = SamplerParams::default();
-        SamplerParams {
-            iterations: s.iterations.unwrap_or(d.iterations),
+        Ok(SamplerParams {
+            iterations: ranged(
+                "sampler.iterations",
+                s.iterations,
+                d.iterations,
+                (0, MAX_ITERATIONS),
+            )?,
             seed: s.seed.unwrap_or(d.seed),
             ..d
-        }
+        })
     }
 
     /// Which cells the looks paint: `look.cells` ("edges" by default, or "voronoi"),
@@ -97,34 +127,26 @@ impl Preset {
                 )
             })?,
         };
-        let colour_weight = l.colour_weight.unwrap_or(d.colour_weight);
-        if !(0.0..=1e6).contains(&colour_weight) {
-            return Err(Error::param(
-                "look.colour_weight",
-                format!("{colour_weight} must be in [0, 1e6]"),
-            ));
-        }
-        let iterations = l.cell_iterations.unwrap_or(d.iterations);
-        if iterations > 20 {
-            return Err(Error::param(
-                "look.cell_iterations",
-                format!("{iterations} must be in [0, 20]"),
-            ));
-        }
-        let reach = l.cell_reach.unwrap_or(d.reach);
-        if reach.is_nan() || reach < 0.0 {
-            return Err(Error::param(
-                "look.cell_reach",
-                format!("{reach} must be 0 or more (inf: no limit)"),
-            ));
-        }
-        let blur_px = l.cell_blur_px.unwrap_or(d.blur_px);
-        if !(0.0..=20.0).contains(&blur_px) {
-            return Err(Error::param(
-                "look.cell_blur_px",
-                format!("{blur_px} must be in [0, 20]"),
-            ));
-        }
+        let colour_weight = ranged(
+            "look.colour_weight",
+            l.colour_weight,
+            d.colour_weight,
+            (0.0, 1e6),
+        )?;
+        let iterations = ranged(
+            "look.cell_iterations",
+            l.cell_iterations,
+            d.iterations,
+            (0, 20),
+        )?;
+        // inf: no limit.
+        let reach = ranged(
+            "look.cell_reach",
+            l.cell_reach,
+            d.reach,
+            (0.0, f64::INFINITY),
+        )?;
+        let blur_px = ranged("look.cell_blur_px", l.cell_blur_px, d.blur_px, (0.0, 20.0))?;
         Ok(CellParams {
             kind,
             colour_weight,
@@ -134,10 +156,9 @@ impl Preset {
         })
     }
 
-    /// Raster points per pixel at cell borders (default 2).
-    #[must_use]
-    pub fn supersample(&self) -> usize {
-        self.file.look.supersample.unwrap_or(2).clamp(1, 4)
+    /// Raster points per pixel at cell borders (default 2, 1 to 4).
+    pub fn supersample(&self) -> Result<usize> {
+        ranged("look.supersample", self.file.look.supersample, 2, (1, 4))
     }
 
     /// The look with the preset's parameters.
@@ -150,37 +171,74 @@ impl Preset {
                 format!("{kind}: expected one of {}", Look::NAMES.join(", ")),
             )
         })?;
-        match &mut look {
-            Look::Mosaic(p) => self.mosaic(p)?,
-            Look::Texture(p) => self.texture(p)?,
-            Look::Glyphs(p) => self.glyphs(p)?,
+        // Keys of the other kinds are ignored but checked all the same, so a bad value is
+        // an error now rather than when the preset switches kind.
+        for other in ["mosaic", "hatch", "glyphs", "fabric"] {
+            if let Some(mut other) = Look::named(other) {
+                self.configure(&mut other)?;
+            }
+        }
+        self.configure(&mut look)?;
+        Ok(look)
+    }
+
+    /// `look`'s parameters from the preset's keys.
+    fn configure(&self, look: &mut Look) -> Result<()> {
+        match look {
+            Look::Mosaic(p) => self.mosaic(p),
+            Look::Texture(p) => self.texture(p),
+            Look::Glyphs(p) => self.glyphs(p),
             Look::Fabric(p) => self.fabric(p),
         }
-        Ok(look)
     }
 
     fn mosaic(&self, p: &mut MosaicParams) -> Result<()> {
         let l = &self.file.look;
-        p.border_width = l.border_width.unwrap_or(p.border_width).max(0.0);
+        p.border_width = ranged(
+            "look.border_width",
+            l.border_width,
+            p.border_width,
+            WIDTH_PX,
+        )?;
         if let Some(c) = &l.border_colour {
             p.border_colour = colour("look.border_colour", c)?;
         }
-        p.relief = l.relief.unwrap_or(p.relief).clamp(0.0, 1.0);
-        p.jitter = l.jitter.unwrap_or(p.jitter).clamp(0.0, 1.0);
+        p.relief = ranged("look.relief", l.relief, p.relief, UNIT)?;
+        p.jitter = ranged("look.jitter", l.jitter, p.jitter, UNIT)?;
         Ok(())
     }
 
     fn texture(&self, p: &mut TextureParams) -> Result<()> {
         let l = &self.file.look;
-        p.lines_per_cell = l.lines_per_cell.unwrap_or(p.lines_per_cell).max(0.1);
-        p.min_spacing_px = l.min_spacing_px.unwrap_or(p.min_spacing_px).max(0.5);
-        p.gamma = l.gamma.unwrap_or(p.gamma).clamp(0.05, 20.0);
-        p.fade_anisotropy = l.fade_anisotropy.unwrap_or(p.fade_anisotropy).max(0.0);
-        p.border_width = l.border_width.unwrap_or(p.border_width).max(0.0);
+        p.lines_per_cell = ranged(
+            "look.lines_per_cell",
+            l.lines_per_cell,
+            p.lines_per_cell,
+            (0.1, 100.0),
+        )?;
+        p.min_spacing_px = ranged(
+            "look.min_spacing_px",
+            l.min_spacing_px,
+            p.min_spacing_px,
+            (0.5, 200.0),
+        )?;
+        p.gamma = ranged("look.gamma", l.gamma, p.gamma, (0.05, 20.0))?;
+        p.fade_anisotropy = ranged(
+            "look.fade_anisotropy",
+            l.fade_anisotropy,
+            p.fade_anisotropy,
+            (0.0, 100.0),
+        )?;
+        p.border_width = ranged(
+            "look.border_width",
+            l.border_width,
+            p.border_width,
+            WIDTH_PX,
+        )?;
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
         }
-        let darken = l.ink_darken.unwrap_or(0.3).clamp(0.0, 1.0);
+        let darken = ranged("look.ink_darken", l.ink_darken, 0.3, UNIT)?;
         if let Some(ink) = &l.ink {
             p.ink = match ink.as_str() {
                 "black" => Ink::Fixed(BLACK_INK),
@@ -231,8 +289,13 @@ impl Preset {
 
     fn glyphs(&self, p: &mut GlyphParams) -> Result<()> {
         let l = &self.file.look;
-        p.scale = l.glyph_scale.unwrap_or(p.scale).clamp(0.05, 4.0);
-        p.outline_width = l.outline_width.unwrap_or(p.outline_width).max(0.0);
+        p.scale = ranged("look.glyph_scale", l.glyph_scale, p.scale, (0.05, 4.0))?;
+        p.outline_width = ranged(
+            "look.outline_width",
+            l.outline_width,
+            p.outline_width,
+            WIDTH_PX,
+        )?;
         if let Some(c) = &l.background {
             p.background = colour("look.background", c)?;
         }
@@ -256,15 +319,16 @@ impl Preset {
             p.shape = glyph_shape(shape)?;
         }
         p.underpaint = l.underpaint.unwrap_or(p.underpaint);
-        p.seed = self.sampler().seed;
+        p.seed = self.sampler()?.seed;
         Ok(())
     }
 
-    fn fabric(&self, p: &mut FabricParams) {
+    fn fabric(&self, p: &mut FabricParams) -> Result<()> {
         let l = &self.file.look;
-        p.kernel_px = l.kernel_px.unwrap_or(p.kernel_px).clamp(1.0, 100.0);
-        p.cross_weight = l.cross_weight.unwrap_or(p.cross_weight).clamp(0.0, 1.0);
-        p.thickness = l.thickness.unwrap_or(p.thickness).clamp(0.01, 2.0);
-        p.contrast = l.contrast.unwrap_or(p.contrast).clamp(0.0, 1.0);
+        p.kernel_px = ranged("look.kernel_px", l.kernel_px, p.kernel_px, (1.0, 100.0))?;
+        p.cross_weight = ranged("look.cross_weight", l.cross_weight, p.cross_weight, UNIT)?;
+        p.thickness = ranged("look.thickness", l.thickness, p.thickness, (0.01, 2.0))?;
+        p.contrast = ranged("look.contrast", l.contrast, p.contrast, UNIT)?;
+        Ok(())
     }
 }

@@ -2,15 +2,18 @@
 //! parameter of the chain (metric, sampler, look): [`preset`] loads it (built-ins compiled in
 //! from `styles/`, `extends` chains, `--set key.path=value` overrides, errors with file, line
 //! and column), [`convert`] turns its keys into the library's parameter structs and the
-//! [`Look`](crate::render::Look), [`sheet`] lists the variants of a contact sheet. Lengths in
+//! [`Look`](crate::render::Look), [`full`] writes a preset out with every key it paints with,
+//! [`sheet`] lists the variants of a contact sheet. Lengths in
 //! `[metric]` are fractions of the image diagonal, as in
 //! [`MetricParams`](crate::field::MetricParams). [`crate::paint`] runs the chain a preset
 //! describes.
 
 pub mod convert;
+pub mod full;
 pub mod preset;
 pub mod sheet;
 
+pub use full::full_toml;
 pub use preset::{
     apply_sets, built_in, load, merge, parse, LookSection, MetricSection, Preset, PresetFile,
     SamplerSection, BUILT_IN, BUILT_IN_TEXTURES, DEFAULT_STYLE,

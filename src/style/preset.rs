@@ -5,7 +5,7 @@
 //! is an error naming the file, line and column and, for an unknown key, the valid ones.
 
 use crate::error::{Error, Result};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The built-in presets: name and TOML text.
@@ -33,7 +33,7 @@ pub const DEFAULT_STYLE: &str = "mosaic";
 
 /// A preset as written: every key optional, so a preset that extends another says only what
 /// it changes.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PresetFile {
     /// One line saying what the preset looks like.
@@ -52,7 +52,7 @@ pub struct PresetFile {
 }
 
 /// `[metric]`: see [`MetricParams`](crate::field::MetricParams) for the meaning of each key.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
 pub struct MetricSection {
@@ -65,7 +65,7 @@ pub struct MetricSection {
 }
 
 /// `[sampler]`.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SamplerSection {
     /// Maximum relaxation iterations.
@@ -76,7 +76,7 @@ pub struct SamplerSection {
 
 /// `[look]`: `kind` picks the renderer; the other keys are its parameters (a key another
 /// kind uses is accepted and ignored, so a preset can switch kind with one key).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
 pub struct LookSection {

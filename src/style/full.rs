@@ -1,0 +1,162 @@
+//! A preset written out in full (`anisopaint styles show NAME --full`): every key its look
+//! reads, with the value the painting uses once `extends` is followed and the library's
+//! defaults fill what no file says, as TOML ready to copy into a preset of one's own. The
+//! values are read back from the converted parameters ([`convert`](super::convert)), so what
+//! is printed is what paints, and printing it again after loading it changes nothing.
+
+use super::preset::{LookSection, MetricSection, Preset, PresetFile, SamplerSection};
+use crate::error::{Error, Result};
+use crate::render::glyphs::{Placement, Shape};
+use crate::render::texture::{Ink, BLACK_INK};
+use crate::render::Look;
+
+/// `preset` with every key its look uses, as TOML.
+pub fn full_toml(preset: &Preset) -> Result<String> {
+    let file = full(preset)?;
+    let text = toml::to_string(&file)
+        .map_err(|e| Error::param("style", format!("cannot write it as TOML: {e}")))?;
+    Ok(format!(
+        "# {}: every key with the value it paints with (extends followed, defaults filled)\n{text}",
+        preset.name
+    ))
+}
+
+/// `preset`'s file with every key its look uses set.
+pub fn full(preset: &Preset) -> Result<PresetFile> {
+    let m = preset.metric()?;
+    let s = preset.sampler()?;
+    let cells = preset.cells()?;
+    let given = &preset.file.look;
+    let mut look = LookSection {
+        kind: Some(given.kind.clone().unwrap_or(Look::DEFAULT_NAME.into())),
+        cells: Some(
+            match cells.kind {
+                crate::render::cells::CellKind::Edges => "edges",
+                crate::render::cells::CellKind::Voronoi => "voronoi",
+            }
+            .into(),
+        ),
+        colour_weight: Some(cells.colour_weight),
+        cell_iterations: Some(cells.iterations),
+        cell_reach: Some(cells.reach),
+        cell_blur_px: Some(cells.blur_px),
+        supersample: Some(preset.supersample()?),
+        ..LookSection::default()
+    };
+    match preset.look()? {
+        Look::Mosaic(p) => {
+            look.border_width = Some(p.border_width);
+            look.border_colour = Some(hex(p.border_colour));
+            look.relief = Some(p.relief);
+            look.jitter = Some(p.jitter);
+        }
+        Look::Texture(p) => {
+            look.lines_per_cell = Some(p.lines_per_cell);
+            look.min_spacing_px = Some(p.min_spacing_px);
+            look.gamma = Some(p.gamma);
+            look.fade_anisotropy = Some(p.fade_anisotropy);
+            look.border_width = Some(p.border_width);
+            look.paper = Some(hex(p.paper));
+            let (ink, darken) = match p.ink {
+                Ink::Fixed(c) if c == BLACK_INK => ("black".to_string(), None),
+                Ink::Fixed(c) => (hex(c), None),
+                Ink::Cell(d) => ("cell".to_string(), Some(d)),
+                Ink::Pixel(d) => ("pixel".to_string(), Some(d)),
+            };
+            look.ink = Some(ink);
+            look.ink_darken = darken;
+            look.texture.clone_from(&given.texture);
+        }
+        Look::Glyphs(p) => {
+            look.glyph_scale = Some(p.scale);
+            look.outline_width = Some(p.outline_width);
+            look.border_colour = Some(hex(p.outline));
+            look.background = Some(hex(p.background));
+            look.placement = Some(
+                match p.placement {
+                    Placement::Relaxed => "relaxed",
+                    Placement::Grid => "grid",
+                    Placement::Random => "random",
+                }
+                .into(),
+            );
+            look.shape = Some(match p.shape {
+                Shape::Ellipse => "ellipse".into(),
+                Shape::Rectangle => "rectangle".into(),
+                Shape::Brush => "brush".into(),
+                Shape::Superquadric(power) => format!("superquadric:{power}"),
+            });
+            look.underpaint = Some(p.underpaint);
+        }
+        Look::Fabric(p) => {
+            look.kernel_px = Some(p.kernel_px);
+            look.cross_weight = Some(p.cross_weight);
+            look.thickness = Some(p.thickness);
+            look.contrast = Some(p.contrast);
+        }
+    }
+    Ok(PresetFile {
+        description: preset.file.description.clone(),
+        extends: None,
+        metric: MetricSection {
+            min_size: Some(m.min_size),
+            max_size: Some(m.max_size),
+            max_anisotropy: Some(m.max_anisotropy),
+            gradation: Some(m.gradation),
+            smoothing: Some(m.smoothing),
+            detail_quantile: Some(m.detail_quantile),
+        },
+        sampler: SamplerSection {
+            iterations: Some(s.iterations),
+            seed: Some(s.seed),
+        },
+        look,
+    })
+}
+
+/// `#rrggbb`.
+fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::style::{load, parse, BUILT_IN};
+
+    /// Written out in full and read back, every built-in preset paints with the same
+    /// parameters, and writing it again gives the same text.
+    #[test]
+    fn the_full_preset_paints_the_same_and_is_a_fixed_point() {
+        for (name, _) in BUILT_IN {
+            let preset = load(name).unwrap();
+            let text = full_toml(&preset).unwrap();
+            let again = Preset {
+                name: name.to_string(),
+                file: parse(&text, name).unwrap(),
+                dir: None,
+            };
+            assert_eq!(again.metric().unwrap(), preset.metric().unwrap(), "{name}");
+            assert_eq!(
+                again.sampler().unwrap(),
+                preset.sampler().unwrap(),
+                "{name}"
+            );
+            assert_eq!(again.cells().unwrap(), preset.cells().unwrap(), "{name}");
+            assert_eq!(again.look().unwrap(), preset.look().unwrap(), "{name}");
+            assert_eq!(full_toml(&again).unwrap(), text, "{name}");
+            // Every key the preset file itself sets is there (`extends` is followed).
+            let own = crate::style::built_in(name).unwrap();
+            for line in own
+                .lines()
+                .filter(|l| l.contains(" = ") && !l.starts_with("extends"))
+            {
+                let key = line.split(" = ").next().unwrap().trim();
+                assert!(
+                    text.lines().any(|l| l.starts_with(&format!("{key} = "))),
+                    "{name}: {key} missing"
+                );
+            }
+        }
+    }
+}
