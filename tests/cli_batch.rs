@@ -1,7 +1,7 @@
 //! `anisopaint batch` through the real binary: good files painted, bad ones listed with their
 //! cause and exit 1, folder structure kept, resumed runs skip what exists, `--force` redoes,
-//! shards partition the work, a batch killed midway completes on a rerun with no damaged
-//! outputs and without the temporary files the killed run left, and an output folder that
+//! shards partition the work, a batch killed midway (SIGKILL) completes on a rerun with no
+//! damaged outputs, nothing painted twice and without the temporary files the killed run left, and an output folder that
 //! cannot be written stops the batch before any painting.
 
 mod common;
@@ -193,12 +193,24 @@ fn a_killed_batch_completes_on_rerun() {
     child.kill().unwrap();
     child.wait().unwrap();
     // Whatever was written is whole.
-    for p in pngs(&out)
-        .iter()
+    let written: Vec<PathBuf> = pngs(&out)
+        .into_iter()
         .filter(|p| p.extension().is_some_and(|e| e == "png"))
-    {
+        .collect();
+    for p in &written {
         assert!(image::open(p).is_ok(), "{} is damaged", p.display());
     }
+    assert!(written.len() < 6, "the kill came after the whole batch");
+    // Each written picture as the killed run left it: its inode (a rewrite renames a new file
+    // into place) and its bytes.
+    let identity = |p: &Path| {
+        #[cfg(unix)]
+        let inode = std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(p).unwrap());
+        #[cfg(not(unix))]
+        let inode = 0u64;
+        (inode, std::fs::read(p).unwrap())
+    };
+    let before: Vec<_> = written.iter().map(|p| (p.clone(), identity(p))).collect();
     bin()
         .arg("batch")
         .arg(&input)
@@ -212,6 +224,10 @@ fn a_killed_batch_completes_on_rerun() {
         .collect();
     assert_eq!(done.len(), 6);
     assert!(done.iter().all(|p| image::open(p).is_ok()));
+    // Nothing was painted twice: what the killed run finished is untouched.
+    for (p, was) in &before {
+        assert!(identity(p) == *was, "{} was painted again", p.display());
+    }
     if Path::new("/proc/self").exists() {
         // The rerun removed what the killed run left half-written.
         assert_eq!(pngs(&out), done, "only whole pictures remain");
