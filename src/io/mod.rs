@@ -13,7 +13,9 @@ use std::io::{BufReader, Read};
 use std::path::Path;
 
 mod output;
+mod whole;
 pub use output::{is_stdout, remove_stale_partials, write_atomic, STDOUT};
+pub use whole::{jpeg_is_whole, png_is_whole};
 
 /// Largest photo or field we accept, in pixels (width × height): 150 megapixels. A larger
 /// image is refused before it is decoded.
@@ -47,8 +49,8 @@ pub fn read_photo(path: &Path) -> Result<DynamicImage> {
 /// How messages name standard input.
 const STDIN_NAME: &str = "standard input";
 
-/// Decodes the bytes of a photo read from `path` (named in errors).
-fn decode_photo(path: &Path, bytes: &[u8]) -> Result<DynamicImage> {
+/// [`read_photo`] of bytes already read from `path` (named in errors).
+pub fn decode_photo(path: &Path, bytes: &[u8]) -> Result<DynamicImage> {
     if bytes.is_empty() {
         return Err(Error::Decode {
             path: path.into(),
@@ -81,14 +83,17 @@ fn decode_photo(path: &Path, bytes: &[u8]) -> Result<DynamicImage> {
             reason: "not a PNG, JPEG, TIFF, WebP, GIF, BMP or PNM image".into(),
         });
     }
-    if reader.format() == Some(image::ImageFormat::Jpeg) {
-        // The JPEG decoder fills a missing tail with grey and reports success: check that
-        // the file is whole before decoding it.
-        jpeg_is_whole(bytes).map_err(|reason| Error::Decode {
-            path: path.into(),
-            reason,
-        })?;
-    }
+    // Decoders stop once they have the pixels (PNG, without its end chunk) or fill a missing
+    // tail with grey and report success (JPEG): check that the file is whole first.
+    let whole = match reader.format() {
+        Some(image::ImageFormat::Jpeg) => jpeg_is_whole(bytes),
+        Some(image::ImageFormat::Png) => png_is_whole(bytes),
+        _ => Ok(()),
+    };
+    whole.map_err(|reason| Error::Decode {
+        path: path.into(),
+        reason,
+    })?;
     let mut limits = Limits::default();
     limits.max_image_width = Some(MAX_SIDE);
     limits.max_image_height = Some(MAX_SIDE);
@@ -101,68 +106,6 @@ fn decode_photo(path: &Path, bytes: &[u8]) -> Result<DynamicImage> {
     let mut img = DynamicImage::from_decoder(decoder).map_err(decode_err)?;
     img.apply_orientation(orientation);
     Ok(img)
-}
-
-/// Checks that a JPEG's segments and entropy-coded scans run to its end-of-image marker (EOI),
-/// walking the markers (lengths of header segments, stuffed bytes and restart markers inside
-/// scans); anything after the EOI is ignored. A file cut anywhere after its first bytes loses
-/// the EOI and is refused as truncated; an embedded thumbnail's EOI inside an APP segment is
-/// skipped with its segment.
-pub fn jpeg_is_whole(bytes: &[u8]) -> std::result::Result<(), String> {
-    let truncated = |at: usize| {
-        Err(format!(
-            "truncated JPEG: no end-of-image marker (the file ends at byte {at}, inside a segment or scan)"
-        ))
-    };
-    if bytes.len() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8 {
-        return Err("not a JPEG (no start-of-image marker)".into());
-    }
-    let mut i = 2;
-    loop {
-        // Fill bytes (0xFF) may precede a marker.
-        while i < bytes.len() && bytes[i] == 0xFF && bytes.get(i + 1) == Some(&0xFF) {
-            i += 1;
-        }
-        if i + 1 >= bytes.len() {
-            return truncated(bytes.len());
-        }
-        if bytes[i] != 0xFF {
-            return Err(format!("corrupt JPEG: expected a marker at byte {i}"));
-        }
-        let marker = bytes[i + 1];
-        match marker {
-            0xD9 => return Ok(()),
-            0x01 | 0xD0..=0xD7 => i += 2,
-            _ => {
-                if i + 3 >= bytes.len() {
-                    return truncated(bytes.len());
-                }
-                let length = usize::from(u16::from_be_bytes([bytes[i + 2], bytes[i + 3]]));
-                if length < 2 {
-                    return Err(format!("corrupt JPEG: segment length {length} at byte {i}"));
-                }
-                i += 2 + length;
-                if i > bytes.len() {
-                    return truncated(bytes.len());
-                }
-                if marker == 0xDA {
-                    // Entropy-coded data runs to the next marker that is not a stuffed 0xFF00
-                    // or a restart marker.
-                    loop {
-                        match bytes[i..].iter().position(|&b| b == 0xFF) {
-                            None => return truncated(bytes.len()),
-                            Some(k) => i += k,
-                        }
-                        match bytes.get(i + 1) {
-                            None => return truncated(bytes.len()),
-                            Some(0x00 | 0xD0..=0xD7) => i += 2,
-                            Some(_) => break,
-                        }
-                    }
-                }
-            }
-        }
-    }
 }
 
 fn check_size(path: &Path, width: u64, height: u64) -> Result<()> {
@@ -187,11 +130,16 @@ fn check_size(path: &Path, width: u64, height: u64) -> Result<()> {
 /// Reads a tensor field `(H, W, 3)` of `(t11, t12, t22)`, float32 or float64, C or Fortran
 /// order. Every value must be finite; the first bad pixel is named otherwise.
 pub fn read_npy(path: &Path) -> Result<TensorField> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    decode_npy(path, &bytes)
+}
+
+/// [`read_npy`] of bytes already read from `path` (named in errors).
+pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
     let npy_err = |reason: String| Error::Npy {
         path: path.into(),
         reason,
     };
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let npy =
         npyz::NpyFile::new(&bytes[..]).map_err(|e| npy_err(format!("not a .npy file: {e}")))?;
     let shape = npy.shape().to_vec();
