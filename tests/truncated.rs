@@ -104,3 +104,25 @@ fn a_jpeg_with_data_after_its_end_and_an_embedded_thumbnail_still_paints() {
     std::fs::write(&path, &tailed).unwrap();
     paint(&path, &dir.path().join("out.png")).success();
 }
+
+#[test]
+fn a_png_cut_between_its_pixels_and_its_end_chunk_is_refused() {
+    // The decoder has every pixel once the image data ends, so it would return the picture;
+    // without its IEND chunk the file is still cut short.
+    let dir = tempfile::tempdir().unwrap();
+    let png = std::fs::read("samples/chelsea.png").unwrap();
+    assert_eq!(&png[png.len() - 8..png.len() - 4], b"IEND");
+    for cut in [png.len() - 12, png.len() - 6, png.len() - 1] {
+        assert!(anisopaint::io::png_is_whole(&png[..cut]).is_err(), "cut at {cut}");
+        let path = dir.path().join(format!("cut{cut}.png"));
+        std::fs::write(&path, &png[..cut]).unwrap();
+        let out = dir.path().join("out.png");
+        paint(&path, &out)
+            .code(2)
+            .stderr(predicates::str::contains("truncated"));
+        assert!(!out.exists());
+    }
+    let mut tailed = png.clone();
+    tailed.extend_from_slice(b"bytes after IEND");
+    assert!(anisopaint::io::png_is_whole(&tailed).is_ok());
+}
