@@ -113,7 +113,10 @@ fn a_png_cut_between_its_pixels_and_its_end_chunk_is_refused() {
     let png = std::fs::read("samples/chelsea.png").unwrap();
     assert_eq!(&png[png.len() - 8..png.len() - 4], b"IEND");
     for cut in [png.len() - 12, png.len() - 6, png.len() - 1] {
-        assert!(anisopaint::io::png_is_whole(&png[..cut]).is_err(), "cut at {cut}");
+        assert!(
+            anisopaint::io::png_is_whole(&png[..cut]).is_err(),
+            "cut at {cut}"
+        );
         let path = dir.path().join(format!("cut{cut}.png"));
         std::fs::write(&path, &png[..cut]).unwrap();
         let out = dir.path().join("out.png");

@@ -10,10 +10,12 @@
 //! centroid and `c_i` to its cell's mean colour, so a site that sat on an edge settles on one
 //! side and takes that side's colour; the triangulation is rebuilt after every move, so the
 //! candidates of the owner search stay the anisotropic Delaunay neighbours. Sites on the
-//! domain's boundary stay where they are. Positions are `f64`, colours `f32` sRGB in [0, 1].
+//! domain's boundary stay where they are. Last, small detached pieces of the final cells are
+//! given to their neighbours ([`pieces`](super::pieces)), so every cell is one piece. Positions are `f64`, colours `f32` sRGB in [0, 1].
 
-use super::raster::pixel_sums;
-use super::voronoi::{ColourTerm, VoronoiCells};
+use super::pieces::one_piece;
+use super::raster::{owner_map, pixel_sums, Raster};
+use super::voronoi::{CellMap, ColourTerm, VoronoiCells};
 use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
@@ -179,7 +181,28 @@ impl CellSites {
                 .collect();
             self.mesh = self.triangulate(field, &previous);
         }
+        term.map = Some(self.pieces_absorbed(&term, domain));
         self.colour = Some(term);
+    }
+
+    /// The final cells' owners on the photo's pixels with every small detached piece given
+    /// to a neighbour ([`one_piece`]).
+    fn pieces_absorbed(&self, term: &ColourTerm, domain: DVec2) -> CellMap {
+        let photo = term.photo();
+        let (w, h) = (photo.width() as usize, photo.height() as usize);
+        let cells = VoronoiCells::new(&self.positions, &self.metrics, &self.mesh).with_colour(term);
+        let pixels = Raster {
+            width: w,
+            height: h,
+            supersample: 1,
+            domain,
+        };
+        let owners = owner_map(&cells, &pixels);
+        let raw = photo.as_raw();
+        one_piece(&owners, w, h, &term.means, |x, y| {
+            let i = 3 * (y * w + x);
+            [raw[i], raw[i + 1], raw[i + 2]].map(|v| f32::from(v) / 255.0)
+        })
     }
 
     /// The triangulation of the moved sites. Every site keeps its index (the label map

@@ -97,6 +97,69 @@ pub struct ColourTerm {
     /// while `δ_j(p) ≤ δ_min(p) + reach`, so a cell grows across its border into a neighbour
     /// but never jumps over it, and its pieces stay joined to it.
     pub reach: f64,
+    /// The owners of the photo's pixels once every cell is one piece
+    /// ([`pieces`](super::pieces)); `None` while the cells are still being made.
+    pub map: Option<CellMap>,
+}
+
+/// The owner of every photo pixel after small detached pieces of cells were absorbed by their
+/// neighbours: an absorbed pixel belongs to its new cell whatever `D` says, and a border is
+/// drawn only where a neighbouring pixel really belongs to the other cell.
+#[derive(Clone, Debug)]
+pub struct CellMap {
+    width: usize,
+    height: usize,
+    /// Owner per pixel, row-major; [`CellMap::ABSORBED`] marks a pixel that changed cell.
+    owners: Vec<u32>,
+}
+
+impl CellMap {
+    /// The flag of an absorbed pixel, above every site index.
+    pub const ABSORBED: u32 = 1 << 31;
+
+    /// A map of `width × height` owners (row-major, flagged with [`CellMap::ABSORBED`]).
+    #[must_use]
+    pub fn new(width: usize, height: usize, owners: Vec<u32>) -> Self {
+        debug_assert_eq!(owners.len(), width * height);
+        CellMap {
+            width,
+            height,
+            owners,
+        }
+    }
+
+    /// The pixel holding `p`, if inside.
+    #[inline]
+    fn pixel(&self, p: DVec2) -> Option<usize> {
+        let (x, y) = (p.x.floor(), p.y.floor());
+        (x >= 0.0 && y >= 0.0 && (x as usize) < self.width && (y as usize) < self.height)
+            .then(|| y as usize * self.width + x as usize)
+    }
+
+    /// The cell an absorbed pixel went to (`None` for a pixel that kept its owner).
+    #[inline]
+    #[must_use]
+    pub fn absorbed_into(&self, p: DVec2) -> Option<u32> {
+        let o = self.owners[self.pixel(p)?];
+        (o & Self::ABSORBED != 0).then_some(o & !Self::ABSORBED)
+    }
+
+    /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
+    #[must_use]
+    pub fn near(&self, p: DVec2, site: u32) -> bool {
+        let Some(k) = self.pixel(p) else {
+            return true;
+        };
+        let (x, y) = (k % self.width, k / self.width);
+        for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
+            for nx in x.saturating_sub(1)..=(x + 1).min(self.width - 1) {
+                if self.owners[ny * self.width + nx] & !Self::ABSORBED == site {
+                    return true;
+                }
+            }
+        }
+        false
+    }
 }
 
 impl ColourTerm {
@@ -108,6 +171,7 @@ impl ColourTerm {
             means: Vec::new(),
             weight,
             reach: f64::INFINITY,
+            map: None,
         }
     }
 
@@ -301,12 +365,15 @@ impl<'a> VoronoiCells<'a> {
                     *slot = (c, d);
                 }
                 let limit = nearest + term.reach;
-                nearest_two(
+                let two = nearest_two(
                     deltas
                         .into_iter()
                         .filter(|&(c, d)| c != NONE && d <= limit)
                         .map(|(c, d)| (c, d * d + term.cost(colour, c))),
-                )
+                );
+                one_piece(term, p, two, |c| {
+                    self.quads[c as usize].delta_squared(p) + term.cost(colour, c)
+                })
             }
         };
         Owner {
@@ -379,12 +446,15 @@ impl<'a> VoronoiCells<'a> {
                     .clone()
                     .map(|i| self.delta(i, p))
                     .fold(f64::INFINITY, f64::min);
-                let ((s1, c1), (s2, c2)) = nearest_two(
+                let two = nearest_two(
                     sites
                         .map(|i| (i, self.delta(i, p)))
                         .filter(|&(_, d)| d <= nearest + term.reach)
                         .map(|(i, d)| (i, d * d + term.cost(colour, i))),
                 );
+                let ((s1, c1), (s2, c2)) = one_piece(term, p, two, |i| {
+                    self.delta(i, p).powi(2) + term.cost(colour, i)
+                });
                 ((s1, c1.sqrt()), (s2, c2.sqrt()))
             }
         };
@@ -397,6 +467,30 @@ impl<'a> VoronoiCells<'a> {
             border_px: f32::INFINITY,
         }
     }
+}
+
+/// The owner and runner-up `(site, D²)` at `p` as `term`'s [`CellMap`] has them: an absorbed
+/// pixel goes to its new cell with no runner-up (no border inside it), and a runner-up that
+/// owns none of the pixels around `p` (the piece that was there was absorbed) is dropped, so
+/// no border is drawn round a piece that is gone.
+#[inline]
+fn one_piece(
+    term: &ColourTerm,
+    p: DVec2,
+    two: ((u32, f64), (u32, f64)),
+    cost: impl Fn(u32) -> f64,
+) -> ((u32, f64), (u32, f64)) {
+    let Some(map) = &term.map else {
+        return two;
+    };
+    let ((site, d1), (second, _)) = two;
+    if let Some(owner) = map.absorbed_into(p) {
+        return ((owner, cost(owner)), (NONE, f64::INFINITY));
+    }
+    if second != NONE && !map.near(p, second) {
+        return ((site, d1), (NONE, f64::INFINITY));
+    }
+    two
 }
 
 /// The nearest and second-nearest of `(site, distance)` pairs (`NONE` and infinity where
