@@ -199,7 +199,7 @@ impl CellSites {
         };
         let owners = owner_map(&cells, &pixels);
         let raw = photo.as_raw();
-        one_piece(&owners, w, h, &term.means, |x, y| {
+        one_piece(owners, w, h, &term.means, |x, y| {
             let i = 3 * (y * w + x);
             [raw[i], raw[i + 1], raw[i + 2]].map(|v| f32::from(v) / 255.0)
         })

@@ -9,8 +9,9 @@
 //! keeps both halves), and so do pieces unlike all their neighbours: a stretch of a thin line
 //! or a highlight is never handed to the ground.
 //!
-//! Pieces are 4-connected; the map is the photo's pixel grid. Everything runs in one thread
-//! in a fixed order, so the result does not depend on the thread count.
+//! Pieces are 4-connected, found on runs of equal owner along rows with a union-find; the map
+//! is the photo's pixel grid. Everything runs in one thread in a fixed order, so the result
+//! does not depend on the thread count.
 
 use super::voronoi::{CellMap, NONE};
 
@@ -27,25 +28,18 @@ pub const MAX_COLOUR_STEP: f32 = 0.1;
 /// sRGB in [0, 1].
 #[must_use]
 pub fn one_piece(
-    owners: &[u32],
+    mut owners: Vec<u32>,
     width: usize,
     height: usize,
     means: &[[f32; 3]],
     colour: impl Fn(usize, usize) -> [f32; 3],
 ) -> CellMap {
-    let (piece, pieces) = label_pieces(owners, width, height);
-    // Size, owner and colour sum of every piece; the main piece of every cell.
+    let runs = Runs::of(&owners, width, height);
+    let (piece_of_run, pieces) = runs.pieces();
+    // Size of every piece; the main piece of every cell; which pieces are small.
     let mut size = vec![0usize; pieces.len()];
-    let mut sum = vec![[0.0f64; 3]; pieces.len()];
-    for (k, &id) in piece.iter().enumerate() {
-        if id == NONE {
-            continue;
-        }
-        size[id as usize] += 1;
-        let c = colour(k % width, k / width);
-        for (s, v) in sum[id as usize].iter_mut().zip(c) {
-            *s += f64::from(v);
-        }
+    for (run, &id) in runs.runs.iter().zip(&piece_of_run) {
+        size[id as usize] += run.len as usize;
     }
     let mut main = vec![NONE; means.len()];
     for (id, &cell) in pieces.iter().enumerate() {
@@ -60,78 +54,159 @@ pub fn one_piece(
             m != id && (size[id] as f64) < MAX_SHARE * size[m] as f64
         })
         .collect();
-    let target = targets(&piece, width, height, &pieces, &small, &size, &sum, means);
-    let mut out = owners.to_vec();
-    for (o, &id) in out.iter_mut().zip(&piece) {
-        if id != NONE && small[id as usize] {
-            let to = target[id as usize];
-            if to != *o {
-                *o = to | CellMap::ABSORBED;
-            }
-        }
-    }
-    CellMap::new(width, height, out)
-}
-
-/// 4-connected pieces of equal owner: the piece of every pixel ([`NONE`] where no site owns
-/// it) and the owner of every piece, numbered in scan order.
-fn label_pieces(owners: &[u32], width: usize, height: usize) -> (Vec<u32>, Vec<u32>) {
-    let mut piece = vec![NONE; owners.len()];
-    let mut cells = Vec::new();
-    let mut stack = Vec::new();
-    for start in 0..owners.len() {
-        if piece[start] != NONE || owners[start] == NONE {
+    // Mean colours of the small pieces only.
+    let mut mean = vec![[0.0f32; 3]; pieces.len()];
+    for (k, run) in runs.runs.iter().enumerate() {
+        let id = piece_of_run[k] as usize;
+        if !small[id] {
             continue;
         }
-        let id = cells.len() as u32;
-        let cell = owners[start];
-        cells.push(cell);
-        piece[start] = id;
-        stack.push(start);
-        while let Some(k) = stack.pop() {
-            let (x, y) = (k % width, k / width);
-            let mut visit = |n: usize| {
-                if piece[n] == NONE && owners[n] == cell {
-                    piece[n] = id;
-                    stack.push(n);
-                }
-            };
-            if x > 0 {
-                visit(k - 1);
-            }
-            if x + 1 < width {
-                visit(k + 1);
-            }
-            if y > 0 {
-                visit(k - width);
-            }
-            if y + 1 < height {
-                visit(k + width);
+        let y = runs.row_of(k);
+        for x in run.x as usize..(run.x + run.len) as usize {
+            let c = colour(x, y);
+            for (m, v) in mean[id].iter_mut().zip(c) {
+                *m += v / size[id] as f32;
             }
         }
     }
-    (piece, cells)
+    let target = targets(&runs, &piece_of_run, &pieces, &small, &mean, means);
+    for (k, run) in runs.runs.iter().enumerate() {
+        let id = piece_of_run[k] as usize;
+        if small[id] && target[id] != run.owner {
+            let row = runs.row_of(k) * width;
+            let span = row + run.x as usize..row + (run.x + run.len) as usize;
+            owners[span].fill(target[id] | CellMap::ABSORBED);
+        }
+    }
+    CellMap::new(width, height, owners)
+}
+
+/// One row's stretch of pixels of one owner.
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    x: u32,
+    len: u32,
+    owner: u32,
+}
+
+/// The owner map as runs, row by row: far fewer items than pixels, and two runs in
+/// neighbouring rows touch (4-connected) when their x ranges overlap.
+struct Runs {
+    runs: Vec<Run>,
+    /// Index of every row's first run; one more at the end.
+    row_start: Vec<usize>,
+}
+
+impl Runs {
+    fn of(owners: &[u32], width: usize, height: usize) -> Runs {
+        let mut runs = Vec::new();
+        let mut row_start = Vec::with_capacity(height + 1);
+        for row in owners.chunks_exact(width.max(1)).take(height) {
+            row_start.push(runs.len());
+            let mut x = 0;
+            while x < row.len() {
+                let owner = row[x];
+                let end = row[x..]
+                    .iter()
+                    .position(|&o| o != owner)
+                    .map_or(row.len(), |n| x + n);
+                if owner != NONE {
+                    runs.push(Run {
+                        x: x as u32,
+                        len: (end - x) as u32,
+                        owner,
+                    });
+                }
+                x = end;
+            }
+        }
+        row_start.push(runs.len());
+        Runs { runs, row_start }
+    }
+
+    /// The row of run `k`.
+    fn row_of(&self, k: usize) -> usize {
+        self.row_start.partition_point(|&s| s <= k) - 1
+    }
+
+    /// Calls `touch(a, b)` for every pair of runs that share a pixel edge: neighbours in a row
+    /// and overlapping runs of neighbouring rows.
+    fn each_touching(&self, mut touch: impl FnMut(usize, usize)) {
+        for y in 0..self.row_start.len() - 1 {
+            let (row, next) = (self.row_start[y], self.row_start[y + 1]);
+            for k in row..next.saturating_sub(1) {
+                if self.runs[k].x + self.runs[k].len == self.runs[k + 1].x {
+                    touch(k, k + 1);
+                }
+            }
+            if y + 2 >= self.row_start.len() {
+                continue;
+            }
+            let (mut a, mut b, below_end) = (row, next, self.row_start[y + 2]);
+            while a < next && b < below_end {
+                let (ra, rb) = (self.runs[a], self.runs[b]);
+                if ra.x < rb.x + rb.len && rb.x < ra.x + ra.len {
+                    touch(a, b);
+                }
+                if ra.x + ra.len <= rb.x + rb.len {
+                    a += 1;
+                } else {
+                    b += 1;
+                }
+            }
+        }
+    }
+
+    /// 4-connected pieces of equal owner: the piece of every run and the owner of every
+    /// piece, numbered in scan order.
+    fn pieces(&self) -> (Vec<u32>, Vec<u32>) {
+        let mut parent: Vec<u32> = (0..self.runs.len() as u32).collect();
+        fn root(parent: &mut [u32], mut k: u32) -> u32 {
+            while parent[k as usize] != k {
+                parent[k as usize] = parent[parent[k as usize] as usize];
+                k = parent[k as usize];
+            }
+            k
+        }
+        self.each_touching(|a, b| {
+            if self.runs[a].owner == self.runs[b].owner {
+                let (ra, rb) = (root(&mut parent, a as u32), root(&mut parent, b as u32));
+                // The lower index is the root, so numbering follows scan order.
+                let (lo, hi) = (ra.min(rb), ra.max(rb));
+                parent[hi as usize] = lo;
+            }
+        });
+        let mut piece_of_run = vec![NONE; self.runs.len()];
+        let mut owners = Vec::new();
+        for k in 0..self.runs.len() {
+            let r = root(&mut parent, k as u32) as usize;
+            if piece_of_run[r] == NONE {
+                piece_of_run[r] = owners.len() as u32;
+                owners.push(self.runs[r].owner);
+            }
+            piece_of_run[k] = piece_of_run[r];
+        }
+        (piece_of_run, owners)
+    }
 }
 
 /// For every piece, the cell it belongs to at the end: a small piece goes to the cell of the
 /// piece it touches whose colour is nearest its mean colour (preferring pieces that are not
 /// small), if that colour is near enough; a small piece that touches only other small pieces
 /// goes where they go.
-#[allow(clippy::too_many_arguments)]
 fn targets(
-    piece: &[u32],
-    width: usize,
-    height: usize,
+    runs: &Runs,
+    piece_of_run: &[u32],
     pieces: &[u32],
     small: &[bool],
-    size: &[usize],
-    sum: &[[f64; 3]],
+    mean: &[[f32; 3]],
     means: &[[f32; 3]],
 ) -> Vec<u32> {
-    // Every (small piece, piece it touches) pair, once per shared pixel edge.
+    // Every (small piece, piece it touches) pair.
     let mut touching: Vec<(u32, u32)> = Vec::new();
-    let mut pair = |a: u32, b: u32| {
-        if a != b && a != NONE && b != NONE {
+    runs.each_touching(|a, b| {
+        let (a, b) = (piece_of_run[a], piece_of_run[b]);
+        if a != b {
             if small[a as usize] {
                 touching.push((a, b));
             }
@@ -139,18 +214,7 @@ fn targets(
                 touching.push((b, a));
             }
         }
-    };
-    for y in 0..height {
-        for x in 0..width {
-            let k = y * width + x;
-            if x + 1 < width {
-                pair(piece[k], piece[k + 1]);
-            }
-            if y + 1 < height {
-                pair(piece[k], piece[k + width]);
-            }
-        }
-    }
+    });
     touching.sort_unstable();
     touching.dedup();
     let mut target: Vec<u32> = pieces.to_vec();
@@ -158,10 +222,9 @@ fn targets(
     let mut k = 0;
     while k < touching.len() {
         let a = touching[k].0 as usize;
-        let mean = sum[a].map(|v| (v / size[a].max(1) as f64) as f32);
         let distance = |b: u32| {
             let m = means[pieces[b as usize] as usize];
-            (0..3).map(|i| (mean[i] - m[i]).powi(2)).sum::<f32>()
+            (0..3).map(|i| (mean[a][i] - m[i]).powi(2)).sum::<f32>()
         };
         let mut best: Option<(bool, f32, u32)> = None;
         while k < touching.len() && touching[k].0 as usize == a {
@@ -217,7 +280,7 @@ mod tests {
     fn owners_after(rows: &[&str], means: &[[f32; 3]]) -> Vec<String> {
         let (owners, w, h) = map_of(rows);
         // Every pixel has its cell's colour, so colour decides nothing but ties.
-        let map = one_piece(&owners, w, h, means, |x, y| {
+        let map = one_piece(owners.clone(), w, h, means, |x, y| {
             means[owners[y * w + x] as usize]
         });
         (0..h)
@@ -273,7 +336,7 @@ mod tests {
             "aaaacbbbb",
             "aaaacbbbb",
         ]);
-        let map = one_piece(&owners, w, h, &means, |x, y| {
+        let map = one_piece(owners.clone(), w, h, &means, |x, y| {
             means[owners[y * w + x] as usize]
         });
         // Joined to the rest of c: one piece, kept.
@@ -285,7 +348,7 @@ mod tests {
             "aaaacbbbb",
             "aaaacbbbb",
         ]);
-        let map = one_piece(&owners, w, h, &means, |x, y| {
+        let map = one_piece(owners.clone(), w, h, &means, |x, y| {
             means[owners[y * w + x] as usize]
         });
         assert_eq!(
