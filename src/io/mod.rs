@@ -140,8 +140,7 @@ pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
         path: path.into(),
         reason,
     };
-    let npy =
-        npyz::NpyFile::new(&bytes[..]).map_err(|e| npy_err(format!("not a .npy file: {e}")))?;
+    let npy = npyz::NpyFile::new(bytes).map_err(|e| npy_err(format!("not a .npy file: {e}")))?;
     let shape = npy.shape().to_vec();
     let (h, w) = match shape[..] {
         [h, w, 3] => (h, w),
