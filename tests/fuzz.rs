@@ -238,7 +238,9 @@ fn damaged_images_are_refused_or_decoded_whole() {
                 }
                 // Now and then the whole pipeline paints what got through.
                 let n = painted.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if n % 16 == 0 && u64::from(img.width()) * u64::from(img.height()) <= 1 << 16 {
+                if n.is_multiple_of(16)
+                    && u64::from(img.width()) * u64::from(img.height()) <= 1 << 16
+                {
                     let loaded = anisopaint::input::photo_field(img, &recipe.field.metric);
                     let painting = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
                         .expect("a decoded picture paints");
