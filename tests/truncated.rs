@@ -129,3 +129,24 @@ fn a_png_cut_between_its_pixels_and_its_end_chunk_is_refused() {
     tailed.extend_from_slice(b"bytes after IEND");
     assert!(anisopaint::io::png_is_whole(&tailed).is_ok());
 }
+
+#[test]
+fn a_gif_cut_after_its_first_frame_is_refused() {
+    // The decoder reads the first frame and stops, so a GIF missing its last bytes (or its
+    // trailer) would decode; it is still cut short.
+    let img = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(30, 20, |x, y| {
+        image::Rgb([(x * 8) as u8, (y * 12) as u8, 90])
+    }));
+    let mut gif = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut gif, image::ImageFormat::Gif).unwrap();
+    let gif = gif.into_inner();
+    assert_eq!(gif.last(), Some(&b';'), "a GIF ends with its trailer");
+    assert!(anisopaint::io::gif_is_whole(&gif).is_ok());
+    for cut in [gif.len() - 1, gif.len() - 2, gif.len() - 5] {
+        assert!(
+            anisopaint::io::gif_is_whole(&gif[..cut]).is_err(),
+            "cut at {cut}"
+        );
+        assert!(anisopaint::io::decode_photo(std::path::Path::new("x.gif"), &gif[..cut]).is_err());
+    }
+}

@@ -15,7 +15,7 @@ use std::path::Path;
 mod output;
 mod whole;
 pub use output::{is_stdout, remove_stale_partials, write_atomic, STDOUT};
-pub use whole::{jpeg_is_whole, png_is_whole};
+pub use whole::{gif_is_whole, jpeg_is_whole, png_is_whole};
 
 /// Largest photo or field we accept, in pixels (width × height): 150 megapixels. A larger
 /// image is refused before it is decoded.
@@ -88,6 +88,7 @@ pub fn decode_photo(path: &Path, bytes: &[u8]) -> Result<DynamicImage> {
     let whole = match reader.format() {
         Some(image::ImageFormat::Jpeg) => jpeg_is_whole(bytes),
         Some(image::ImageFormat::Png) => png_is_whole(bytes),
+        Some(image::ImageFormat::Gif) => gif_is_whole(bytes),
         _ => Ok(()),
     };
     whole.map_err(|reason| Error::Decode {

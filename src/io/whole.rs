@@ -1,5 +1,5 @@
 //! Whether a file is whole before it is decoded: decoders stop once they have the pixels
-//! (a PNG without its end chunk decodes) or fill a missing tail with grey and report success
+//! (a PNG without its end chunk decodes, so does a GIF cut after its first frame) or fill a missing tail with grey and report success
 //! (JPEG), so a file cut short would be painted as if it were whole. Each check walks the
 //! format's own structure to its end marker and names where the file stops.
 
@@ -87,5 +87,61 @@ pub fn png_is_whole(bytes: &[u8]) -> std::result::Result<(), String> {
             return Ok(());
         }
         pos = end;
+    }
+}
+
+/// Checks that a GIF's blocks (extensions and images, each with its data sub-blocks) run
+/// whole to its trailer (`;`); anything after the trailer is ignored.
+pub fn gif_is_whole(bytes: &[u8]) -> std::result::Result<(), String> {
+    let truncated = || {
+        Err(format!(
+            "truncated GIF: the file ends at byte {}, before its trailer",
+            bytes.len()
+        ))
+    };
+    let colour_table = |packed: u8| {
+        if packed & 0x80 != 0 {
+            3usize << ((packed & 7) + 1)
+        } else {
+            0
+        }
+    };
+    // Header and logical screen descriptor, then the global colour table.
+    let Some(&packed) = bytes.get(10) else {
+        return truncated();
+    };
+    let mut pos = 13 + colour_table(packed);
+    // Data sub-blocks from `pos`: (size, data)... up to a zero size; the position after.
+    let sub_blocks = |mut pos: usize| -> Option<usize> {
+        loop {
+            let size = *bytes.get(pos)? as usize;
+            pos += 1 + size;
+            if size == 0 {
+                return Some(pos);
+            }
+        }
+    };
+    loop {
+        let Some(&block) = bytes.get(pos) else {
+            return truncated();
+        };
+        pos = match block {
+            b';' => return Ok(()),
+            0x21 => match sub_blocks(pos + 2) {
+                Some(next) => next,
+                None => return truncated(),
+            },
+            b',' => {
+                let Some(&packed) = bytes.get(pos + 9) else {
+                    return truncated();
+                };
+                // Descriptor, local colour table, LZW code size, then the image data.
+                match sub_blocks(pos + 10 + colour_table(packed) + 1) {
+                    Some(next) => next,
+                    None => return truncated(),
+                }
+            }
+            other => return Err(format!("corrupt GIF: block 0x{other:02x} at byte {pos}")),
+        };
     }
 }
