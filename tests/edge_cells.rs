@@ -271,6 +271,8 @@ fn the_owner_search_of_edge_cells_agrees_with_brute_force() {
 /// Cells at an edge as large as in a photo with texture elsewhere (a flat synthetic picture
 /// otherwise gets the smallest cells right at its one edge, where nothing can straddle much).
 const COARSE: &str = "metric.min_size=0.012";
+/// The cells alone, without the line drawing the ink looks lay over them.
+const NO_OUTLINES: &str = "look.outlines=0";
 
 /// Mean luma of `img` blurred at σ = 3 px (viewing distance for hatching), averaged along the
 /// edge or line at `angle`, at signed distances `-12..=12` px from it.
@@ -340,7 +342,8 @@ fn every_cell_look_keeps_edges_sharp_without_bands_and_lines_dark() {
         for (angle, side) in [(17.0, light), (80.0, mid)] {
             let edge = picture(angle, |d| if d < 0.0 { side } else { dark });
             let sharp = transition_width(&profile(&edge, angle));
-            let (ours, _) = paint(&edge, style_name, &[COARSE]);
+            // The cells alone: the outlines of the ink looks would sharpen any cells' edge.
+            let (ours, _) = paint(&edge, style_name, &[COARSE, NO_OUTLINES]);
             let p = profile(&ours, angle);
             // Seen from afar the edge is as sharp as the photo's (measured: within 1.8 px;
             // the paper's cells widen it by 1.6 to 4.2 px) and has no band beside it.
@@ -351,7 +354,11 @@ fn every_cell_look_keeps_edges_sharp_without_bands_and_lines_dark() {
                 band <= 0.02,
                 "{style_name} {angle}°: a band {band:.3} beyond its sides"
             );
-            let (paper, _) = paint(&edge, style_name, &[COARSE, "look.cells=voronoi"]);
+            let (paper, _) = paint(
+                &edge,
+                style_name,
+                &[COARSE, NO_OUTLINES, "look.cells=voronoi"],
+            );
             paper_widest = paper_widest.max(transition_width(&profile(&paper, angle)) - sharp);
         }
         if matches!(style_name, "pen-hatch" | "strokes") {
@@ -366,7 +373,7 @@ fn every_cell_look_keeps_edges_sharp_without_bands_and_lines_dark() {
             let (a, b) = sides(p);
             (a + b) / 2.0 - p[12]
         };
-        let (ours, _) = paint(&line, style_name, &[]);
+        let (ours, _) = paint(&line, style_name, &[NO_OUTLINES]);
         let kept = depth(&profile(&ours, 30.0)) / depth(&profile(&line, 30.0));
         assert!(
             kept >= 0.5,

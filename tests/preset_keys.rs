@@ -10,7 +10,7 @@ use anisopaint::progress::Silent;
 use anisopaint::style;
 
 /// Every numeric key, with whether it takes an integer.
-const KEYS: [(&str, bool); 31] = [
+const KEYS: [(&str, bool); 33] = [
     ("metric.min_size", false),
     ("metric.max_size", false),
     ("metric.max_anisotropy", false),
@@ -38,6 +38,8 @@ const KEYS: [(&str, bool); 31] = [
     ("look.cross_weight", false),
     ("look.thickness", false),
     ("look.contrast", false),
+    ("look.outlines", false),
+    ("look.outline_scale", false),
     // Enumerated keys take numbers too when a user gets them wrong.
     ("look.kind", false),
     ("look.cells", false),

@@ -19,6 +19,7 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
+use crate::render::outline::{draw_outlines, OutlineParams};
 use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
@@ -39,6 +40,8 @@ pub struct Recipe {
     pub supersample: usize,
     /// Which cells the look paints.
     pub cells: CellParams,
+    /// The outlines laid over the look (a photo's only).
+    pub outline: OutlineParams,
 }
 
 impl Recipe {
@@ -62,6 +65,7 @@ impl Recipe {
             look,
             supersample: preset.supersample()?,
             cells: preset.cells()?,
+            outline: preset.outline()?,
         })
     }
 }
@@ -176,7 +180,7 @@ pub fn draw(
             };
             label_map(&sites.cells(), &raster)
         });
-        let (image, svg) = crate::render::draw(
+        let (mut image, svg) = crate::render::draw(
             &recipe.look,
             sites.cells(),
             &loaded.metric,
@@ -184,6 +188,15 @@ pub fn draw(
             size,
             extras.svg,
         )?;
+        if let Some(photo) = &loaded.photo {
+            draw_outlines(
+                &mut image,
+                photo,
+                &loaded.raw,
+                loaded.metric.domain(),
+                &recipe.outline,
+            );
+        }
         Ok(Painting { image, svg, labels })
     })
 }

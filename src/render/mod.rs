@@ -16,6 +16,7 @@ pub mod font;
 pub mod glyphs;
 pub mod look;
 pub mod mosaic;
+pub mod outline;
 pub mod pieces;
 pub mod preview;
 pub mod raster;

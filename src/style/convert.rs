@@ -11,6 +11,7 @@ use crate::render::cells::{CellKind, CellParams};
 use crate::render::fabric::FabricParams;
 use crate::render::glyphs::{GlyphParams, Placement, Shape};
 use crate::render::mosaic::MosaicParams;
+use crate::render::outline::OutlineParams;
 use crate::render::texture::{Ink, TextureKind, TextureParams, BLACK_INK};
 use crate::render::Look;
 use crate::sampling::SamplerParams;
@@ -153,6 +154,18 @@ impl Preset {
             iterations,
             reach,
             blur_px,
+        })
+    }
+
+    /// The outlines over the look: `look.outlines` (ink, 0 to 1, default none) and
+    /// `look.outline_scale` (line width, 0.25 to 4).
+    pub fn outline(&self) -> Result<OutlineParams> {
+        let l = &self.file.look;
+        let d = OutlineParams::default();
+        Ok(OutlineParams {
+            strength: ranged("look.outlines", l.outlines, d.strength, UNIT)?,
+            scale: ranged("look.outline_scale", l.outline_scale, d.scale, (0.25, 4.0))?,
+            ..d
         })
     }
 

@@ -41,6 +41,8 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
         cell_reach: Some(cells.reach),
         cell_blur_px: Some(cells.blur_px),
         supersample: Some(preset.supersample()?),
+        outlines: Some(preset.outline()?.strength),
+        outline_scale: Some(preset.outline()?.scale),
         ..LookSection::default()
     };
     match preset.look()? {

@@ -119,6 +119,10 @@ pub struct LookSection {
     pub cross_weight: Option<f32>,
     pub thickness: Option<f32>,
     pub contrast: Option<f32>,
+    /// Ink of the outlines along the photo's edges, 0 (none) to 1; any look.
+    pub outlines: Option<f32>,
+    /// Width of the outlines relative to the default.
+    pub outline_scale: Option<f32>,
 }
 
 /// A preset resolved down its `extends` chain, with its name.
@@ -297,6 +301,8 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             cross_weight: o.cross_weight.or(b.cross_weight),
             thickness: o.thickness.or(b.thickness),
             contrast: o.contrast.or(b.contrast),
+            outlines: o.outlines.or(b.outlines),
+            outline_scale: o.outline_scale.or(b.outline_scale),
         },
     }
 }

@@ -1,0 +1,122 @@
+//! Outlines (flow-based difference of Gaussians) on pictures whose answer is known: a black
+//! disc on white gets a closed line along its rim and nothing inside or far outside; a flat
+//! picture gets no line at all; the ink looks draw their outlines over the hatching.
+
+use anisopaint::input::photo_field;
+use anisopaint::render::outline::{line_map, OutlineParams};
+use image::{DynamicImage, RgbImage};
+
+const SIDE: u32 = 200;
+const RADIUS: f64 = 60.0;
+
+/// A black disc on white, anti-aliased over 4×4 points per pixel.
+fn disc() -> DynamicImage {
+    let c = f64::from(SIDE) / 2.0;
+    DynamicImage::ImageRgb8(RgbImage::from_fn(SIDE, SIDE, |x, y| {
+        let mut inside = 0.0f64;
+        for j in 0..4 {
+            for i in 0..4 {
+                let dx = f64::from(x) + (f64::from(i) + 0.5) / 4.0 - c;
+                let dy = f64::from(y) + (f64::from(j) + 0.5) / 4.0 - c;
+                if dx.hypot(dy) < RADIUS {
+                    inside += 1.0 / 16.0;
+                }
+            }
+        }
+        let v = (255.0 * (1.0 - inside)).round() as u8;
+        image::Rgb([v, v, v])
+    }))
+}
+
+fn lines_of(photo: DynamicImage) -> (Vec<f32>, usize) {
+    let loaded = photo_field(photo.clone(), &Default::default());
+    let params = OutlineParams {
+        strength: 1.0,
+        ..OutlineParams::default()
+    };
+    assert_eq!(
+        loaded.raw.spacing(),
+        1.0,
+        "a small photo is analysed at full size"
+    );
+    (line_map(&photo, &loaded.raw, &params), loaded.raw.cols())
+}
+
+#[test]
+fn a_black_disc_gets_a_closed_outline_and_nothing_else() {
+    let (lines, cols) = lines_of(disc());
+    let at = |r: f64, a: f64| {
+        let c = f64::from(SIDE) / 2.0 - 0.5;
+        let (x, y) = ((c + r * a.cos()).round(), (c + r * a.sin()).round());
+        lines[y as usize * cols + x as usize]
+    };
+    let mut weakest = f32::INFINITY;
+    for k in 0..360 {
+        let a = f64::from(k).to_radians();
+        // The line lies on the dark side of the rim, within a few pixels of it.
+        let best = (0..8)
+            .map(|i| at(RADIUS - 4.0 + f64::from(i) * 0.5, a))
+            .fold(0.0f32, f32::max);
+        weakest = weakest.min(best);
+        for r in [0.0, 20.0, RADIUS - 15.0, RADIUS + 12.0, RADIUS + 30.0] {
+            assert!(at(r, a) < 0.05, "ink {} at r = {r}, {k}°", at(r, a));
+        }
+    }
+    assert!(
+        weakest > 0.6,
+        "the outline is open: ink {weakest} somewhere on the rim"
+    );
+}
+
+#[test]
+fn a_flat_picture_gets_no_line() {
+    let flat = DynamicImage::ImageRgb8(RgbImage::from_pixel(120, 90, image::Rgb([90, 140, 60])));
+    let (lines, _) = lines_of(flat);
+    assert!(lines.iter().all(|&v| v == 0.0));
+}
+
+#[test]
+fn ink_looks_draw_outlines_over_their_hatching() {
+    // The rim of the disc, just inside: with outlines the pen-hatch is darker there than
+    // without, and the paper far outside stays as it was.
+    let photo = disc();
+    let paint = |outlines: &str| {
+        let mut preset = anisopaint::style::load("pen-hatch").unwrap();
+        anisopaint::style::apply_sets(&mut preset, &[format!("look.outlines={outlines}")]).unwrap();
+        let recipe =
+            anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
+        let loaded = photo_field(photo.clone(), &recipe.field.metric);
+        anisopaint::paint::paint_loaded(
+            &loaded,
+            &recipe,
+            Default::default(),
+            &anisopaint::progress::Silent,
+        )
+        .unwrap()
+        .image
+    };
+    let (with, without) = (paint("1"), paint("0"));
+    let ring_mean = |img: &RgbImage, r0: f64, r1: f64| {
+        let c = f64::from(SIDE) / 2.0;
+        let (mut sum, mut n) = (0.0, 0.0);
+        for (x, y, p) in img.enumerate_pixels() {
+            let r = (f64::from(x) + 0.5 - c).hypot(f64::from(y) + 0.5 - c);
+            if r >= r0 && r < r1 {
+                sum += f64::from(p.0[0]);
+                n += 1.0;
+            }
+        }
+        sum / n
+    };
+    let (rim_with, rim_without) = (
+        ring_mean(&with, RADIUS - 3.0, RADIUS),
+        ring_mean(&without, RADIUS - 3.0, RADIUS),
+    );
+    assert!(
+        rim_with < rim_without - 10.0,
+        "rim {rim_with} with, {rim_without} without"
+    );
+    assert!(rim_with < 60.0, "the rim is not dark: {rim_with}");
+    let far = |img: &RgbImage| ring_mean(img, RADIUS + 15.0, RADIUS + 30.0);
+    assert!((far(&with) - far(&without)).abs() < 1.0);
+}
