@@ -325,34 +325,37 @@ mod tests {
         assert_eq!(owners_after(&rows, &means)[1], "aabaaabbbbbb");
     }
 
+    /// Where the pixel `(x, y)` of `rows` went, if it was absorbed.
+    fn absorbed_at(rows: &[&str], means: &[[f32; 3]], x: f64, y: f64) -> Option<u32> {
+        let (owners, w, h) = map_of(rows);
+        let map = one_piece(owners.clone(), w, h, means, |x, y| {
+            means[owners[y * w + x] as usize]
+        });
+        map.absorbed_into(glam::DVec2::new(x, y))
+    }
+
     #[test]
     fn a_small_piece_goes_to_the_neighbour_nearest_in_colour() {
         // A piece of c between a (dark) and b (light); c's pixels are dark.
         let means = [[0.1; 3], [0.9; 3], [0.15; 3]];
-        let (owners, w, h) = map_of(&[
-            "ccccccccc",
-            "ccccccccc",
-            "ccccccccc",
-            "aaaacbbbb",
-            "aaaacbbbb",
-        ]);
-        let map = one_piece(owners.clone(), w, h, &means, |x, y| {
-            means[owners[y * w + x] as usize]
-        });
         // Joined to the rest of c: one piece, kept.
-        assert_eq!(map.absorbed_into(glam::DVec2::new(4.5, 3.5)), None);
-        let (owners, w, h) = map_of(&[
+        let joined = [
+            "ccccccccc",
+            "ccccccccc",
+            "ccccccccc",
+            "aaaacbbbb",
+            "aaaacbbbb",
+        ];
+        assert_eq!(absorbed_at(&joined, &means, 4.5, 3.5), None);
+        let detached = [
             "ccccccccc",
             "ccccccccc",
             "aaaaaaaaa",
             "aaaacbbbb",
             "aaaacbbbb",
-        ]);
-        let map = one_piece(owners.clone(), w, h, &means, |x, y| {
-            means[owners[y * w + x] as usize]
-        });
+        ];
         assert_eq!(
-            map.absorbed_into(glam::DVec2::new(4.5, 4.5)),
+            absorbed_at(&detached, &means, 4.5, 4.5),
             Some(0),
             "dark c → dark a"
         );

@@ -205,14 +205,19 @@ impl Preset {
         }
     }
 
+    /// `look.border_width` (the mosaic's leading, a texture's cell borders), or `default`.
+    fn border_width(&self, default: f32) -> Result<f32> {
+        ranged(
+            "look.border_width",
+            self.file.look.border_width,
+            default,
+            WIDTH_PX,
+        )
+    }
+
     fn mosaic(&self, p: &mut MosaicParams) -> Result<()> {
         let l = &self.file.look;
-        p.border_width = ranged(
-            "look.border_width",
-            l.border_width,
-            p.border_width,
-            WIDTH_PX,
-        )?;
+        p.border_width = self.border_width(p.border_width)?;
         if let Some(c) = &l.border_colour {
             p.border_colour = colour("look.border_colour", c)?;
         }
@@ -242,12 +247,7 @@ impl Preset {
             p.fade_anisotropy,
             (0.0, 100.0),
         )?;
-        p.border_width = ranged(
-            "look.border_width",
-            l.border_width,
-            p.border_width,
-            WIDTH_PX,
-        )?;
+        p.border_width = self.border_width(p.border_width)?;
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
         }
