@@ -7,7 +7,10 @@
 //! Textures give ink coverage; tone mapping makes darker cells denser (thicker hatch lines,
 //! more cross-hatch layers, bigger stipples; image textures are thresholded like a halftone
 //! screen), and the texture's contrast fades where the metric is isotropic and no direction
-//! is defined (paper Figure 6), keeping the mean tone. Shading is `f32` in linear light.
+//! is defined (paper Figure 6), keeping the mean tone. The coverage is solved so that paper
+//! and ink average to the cell's lightness ([`cell_tones`]), and paper and ink are mixed in the
+//! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
+//! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
 use super::colour::{lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
 use super::mosaic::border_coverage;
@@ -155,18 +158,31 @@ impl Frame {
     }
 }
 
-/// Every cell's darkness (the tone curve applied to its lightness) and ink colour.
+/// Every cell's ink coverage and ink colour. The tone curve sets the lightness the cell should
+/// read as, `1 − (1 − L)^gamma` of its own lightness `L`; the coverage is the share of ink
+/// that gives that lightness between the paper's and the ink's,
+/// `(paper − target) / (paper − ink)` (all perceived lightness, the sRGB encoding of the
+/// luminance, which is what ink on paper averages to at a distance, since the
+/// shading mixes paper and ink in that encoding too): a light cell on off-white paper takes
+/// no ink, and coloured dots cover as much as their own colour needs.
 #[must_use]
 pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linear)> {
+    let paper = lightness(linear_of(params.paper));
     colours
         .iter()
         .map(|&colour| {
-            let darkness = (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
+            let target = 1.0 - (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
             let ink = match params.ink {
                 Ink::Fixed(rgb) => linear_of(rgb),
                 Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
             };
-            (darkness, ink)
+            let room = paper - lightness(ink);
+            let cover = if room > 1e-3 {
+                ((paper - target) / room).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            (cover, ink)
         })
         .collect()
 }
@@ -210,12 +226,24 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
                 let thin = ((1.5 * period - widths[site as usize]) / period).clamp(0.0, 1.0);
                 cover += (darkness - cover) * thin as f32;
             }
-            mix(paper, ink, cover)
+            mix_encoded(paper, ink, cover)
         };
         if params.border_width > 0.0 {
             c = mix(c, ink, border_coverage(o, params.border_width));
         }
         c
+    })
+}
+
+/// `a + (b − a)·t` in the sRGB encoding: ink covering a share `t` of a pixel reads as that
+/// share of the way from paper to ink in lightness, as ink on paper averages at a distance and
+/// as SVG viewers blend (in linear light every partly inked pixel of a fine hatch comes out
+/// far lighter than its share of ink, and dark tones never get dark).
+fn mix_encoded(a: Linear, b: Linear, t: f32) -> Linear {
+    let enc = |v: f32| f32::from(super::colour::to_srgb(v));
+    std::array::from_fn(|k| {
+        let e = enc(a[k]) + (enc(b[k]) - enc(a[k])) * t;
+        super::colour::to_linear(e.round().clamp(0.0, 255.0) as u8)
     })
 }
 
