@@ -311,10 +311,16 @@ pub(super) fn spacing(b: f64, params: &TextureParams, px: f64) -> f64 {
 fn lines(local: DVec2, phi: f64, spacing: f64, offset: f64, darkness: f32, px: f64) -> f32 {
     let across = -local.x * phi.sin() + local.y * phi.cos() + offset;
     let w = across / spacing;
-    let dist = (w - w.round()).abs();
-    let half = 0.5 * f64::from(darkness);
-    let foot = px / spacing;
-    ((half - dist) / foot + 0.5).clamp(0.0, 1.0) as f32
+    let half = 0.5 * f64::from(darkness.clamp(0.0, 1.0));
+    let foot = (px / spacing).max(1e-9);
+    // The exact share of ink over the pixel's footprint across the lines (a box filter): a
+    // gap narrower than a pixel is averaged, not rounded away to paper.
+    let inked_up_to = |x: f64| {
+        let n = x.floor();
+        let r = x - n;
+        n * 2.0 * half + r.min(half) + (r - (1.0 - half)).max(0.0)
+    };
+    ((inked_up_to(w + 0.5 * foot) - inked_up_to(w - 0.5 * foot)) / foot).clamp(0.0, 1.0) as f32
 }
 
 /// Ink coverage of the ink textures at a local point.

@@ -1,0 +1,67 @@
+//! Tone reproduction of the ink looks, on a picture whose answer is known: a ramp of
+//! lightness from black to white, hatched and seen from afar (blurred at σ = 4 px, averaged
+//! down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1 scale),
+//! light areas paper, dark ones dense.
+
+use anisopaint::input::photo_field;
+use anisopaint::paint::{paint_loaded, Extras, Recipe};
+use anisopaint::progress::Silent;
+use image::{DynamicImage, GrayImage, RgbImage};
+
+const W: u32 = 320;
+const H: u32 = 120;
+
+/// Lightness `x / W` (the sRGB value) across, the same down every column.
+fn ramp() -> RgbImage {
+    RgbImage::from_fn(W, H, |x, _| {
+        let v = (255.0 * (f64::from(x) + 0.5) / f64::from(W)).round() as u8;
+        image::Rgb([v, v, v])
+    })
+}
+
+/// Mean sRGB luma (0–1) of `img` blurred at σ = 4 px, in `bands` column bands, away from
+/// the picture's edges.
+fn profile(img: &RgbImage, bands: u32) -> Vec<f64> {
+    let luma = GrayImage::from_fn(W, H, |x, y| {
+        let p = img.get_pixel(x, y).0;
+        let l = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
+        image::Luma([l.round() as u8])
+    });
+    let blurred = image::imageops::blur(&luma, 4.0);
+    let band = W / bands;
+    (0..bands)
+        .map(|b| {
+            let mut sum = 0.0;
+            let mut n = 0.0;
+            for y in 16..H - 16 {
+                for x in b * band..(b + 1) * band {
+                    sum += f64::from(blurred.get_pixel(x, y).0[0]) / 255.0;
+                    n += 1.0;
+                }
+            }
+            sum / n
+        })
+        .collect()
+}
+
+#[test]
+fn a_hatched_ramp_keeps_its_tones() {
+    let photo = ramp();
+    let expected = profile(&photo, 10);
+    for style in ["pen-hatch", "crosshatch"] {
+        let preset = anisopaint::style::load(style).unwrap();
+        let recipe = Recipe::from_preset(&preset, Default::default(), Some(2)).unwrap();
+        let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
+        let painting = paint_loaded(&loaded, &recipe, Extras::default(), &Silent).unwrap();
+        let got = profile(&painting.image, 10);
+        for (k, (g, e)) in got.iter().zip(&expected).enumerate() {
+            assert!(
+                (g - e).abs() <= 0.1,
+                "{style}: band {k} reads {g:.3}, the photo {e:.3}\n{got:.3?}"
+            );
+        }
+        for w in got.windows(2) {
+            assert!(w[1] > w[0], "{style}: not monotone: {got:.3?}");
+        }
+    }
+}
