@@ -1,7 +1,8 @@
-//! Tone reproduction of the ink looks, on a picture whose answer is known: a ramp of
+//! Tone reproduction of the ink and stipple looks, on a picture whose answer is known: a ramp of
 //! lightness from black to white, hatched and seen from afar (blurred at σ = 4 px, averaged
-//! down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1 scale),
-//! light areas paper, dark ones dense.
+//! down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1 scale)
+//! after the tone curve its preset asks for (`look.gamma`: lightness `1 − (1 − L)^γ`), light
+//! areas paper, dark ones dense.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -48,13 +49,15 @@ fn profile(img: &RgbImage, bands: u32) -> Vec<f64> {
 fn a_hatched_ramp_keeps_its_tones() {
     let photo = ramp();
     let expected = profile(&photo, 10);
-    for style in ["pen-hatch", "crosshatch"] {
+    for style in ["pen-hatch", "crosshatch", "pointillist"] {
         let preset = anisopaint::style::load(style).unwrap();
+        let gamma = f64::from(preset.file.look.gamma.unwrap_or(1.0));
         let recipe = Recipe::from_preset(&preset, Default::default(), Some(2)).unwrap();
         let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
         let painting = paint_loaded(&loaded, &recipe, Extras::default(), &Silent).unwrap();
         let got = profile(&painting.image, 10);
         for (k, (g, e)) in got.iter().zip(&expected).enumerate() {
+            let e = 1.0 - (1.0 - e).powf(gamma);
             assert!(
                 (g - e).abs() <= 0.1,
                 "{style}: band {k} reads {g:.3}, the photo {e:.3}\n{got:.3?}"

@@ -374,19 +374,13 @@ fn coverage(
         TextureKind::Stipple => {
             let s = spacing(f.b, p, px);
             let cell = (local / s).floor();
+            let r = s * stipple_radius(darkness);
             let mut best: f32 = 0.0;
             // The dot of this lattice cell and of its neighbours (jitter can reach across).
             for dy in -1..=1 {
                 for dx in -1..=1 {
                     let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
-                    let key = site.wrapping_mul(7919)
-                        ^ ((c.x as i32 as u32).wrapping_mul(73_856_093))
-                        ^ ((c.y as i32 as u32).wrapping_mul(19_349_663));
-                    let centre = (c + DVec2::new(
-                        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_X)) - 0.5),
-                        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_Y)) - 0.5),
-                    )) * s;
-                    let r = s * (f64::from(darkness) / std::f64::consts::PI).sqrt();
+                    let centre = dot_centre(site, c) * s;
                     let cover = ((r - (local - centre).length()) / px + 0.5).clamp(0.0, 1.0);
                     best = best.max(cover as f32);
                 }
@@ -400,6 +394,71 @@ fn coverage(
             ((value - (1.0 - darkness)) / 0.15 + 0.5).clamp(0.0, 1.0)
         }
         TextureKind::Stroke => darkness,
+    }
+}
+
+/// Centre of the stipple dot of lattice cell `c` (in lattice periods) in `site`'s cell: the
+/// cell's middle, jittered by up to ±0.3 periods.
+fn dot_centre(site: u32, c: DVec2) -> DVec2 {
+    let key = site.wrapping_mul(7919)
+        ^ ((c.x as i32 as u32).wrapping_mul(73_856_093))
+        ^ ((c.y as i32 as u32).wrapping_mul(19_349_663));
+    c + DVec2::new(
+        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_X)) - 0.5),
+        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_Y)) - 0.5),
+    )
+}
+
+/// Steps of the stipple radius table, and the largest radius it holds (lattice periods).
+const DOT_STEPS: usize = 64;
+const DOT_MAX_RADIUS: f64 = 1.2;
+
+/// The dot radius, in lattice periods, that inks a share `cover` of the paper. Dots on a
+/// jittered lattice overlap and leave gaps, so `√(cover/π)` falls short of dark tones (no
+/// radius under half a period can cover more than π/4); the share each radius really inks is
+/// measured once on the lattice itself (its own jitter, its ±1 neighbourhood) and inverted.
+fn stipple_radius(cover: f32) -> f64 {
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let inked = TABLE.get_or_init(|| {
+        // 24 × 24 lattice cells, 6 × 6 points each.
+        let (cells, points) = (24usize, 6usize);
+        (0..=DOT_STEPS)
+            .map(|k| {
+                let r = DOT_MAX_RADIUS * k as f64 / DOT_STEPS as f64;
+                let mut hits = 0usize;
+                for cy in 0..cells {
+                    for cx in 0..cells {
+                        for j in 0..points {
+                            for i in 0..points {
+                                let q = DVec2::new(
+                                    cx as f64 + (i as f64 + 0.5) / points as f64,
+                                    cy as f64 + (j as f64 + 0.5) / points as f64,
+                                );
+                                let cell = q.floor();
+                                let near = (-1..=1).any(|dy| {
+                                    (-1..=1).any(|dx| {
+                                        let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
+                                        (q - dot_centre(0, c)).length() < r
+                                    })
+                                });
+                                hits += usize::from(near);
+                            }
+                        }
+                    }
+                }
+                hits as f64 / (cells * cells * points * points) as f64
+            })
+            .collect()
+    });
+    let c = f64::from(cover.clamp(0.0, 1.0));
+    match inked.iter().position(|&v| v >= c) {
+        Some(0) => 0.0,
+        Some(k) => {
+            let (lo, hi) = (inked[k - 1], inked[k]);
+            let t = if hi > lo { (c - lo) / (hi - lo) } else { 1.0 };
+            DOT_MAX_RADIUS * ((k - 1) as f64 + t) / DOT_STEPS as f64
+        }
+        None => DOT_MAX_RADIUS,
     }
 }
 
