@@ -164,7 +164,14 @@ pub fn draw_outlines(
 
 /// The photo's lightness (sRGB luma in [0, 1]) averaged over every node's block of pixels.
 fn lightness_grid(photo: &DynamicImage, tensor: &TensorField) -> Vec<f32> {
-    let rgb = photo.to_rgb8();
+    let owned;
+    let rgb = match photo.as_rgb8() {
+        Some(rgb) => rgb,
+        None => {
+            owned = photo.to_rgb8();
+            &owned
+        }
+    };
     let (cols, rows) = (tensor.cols(), tensor.rows());
     let s = tensor.spacing();
     let (w, h) = (rgb.width() as usize, rgb.height() as usize);
@@ -180,7 +187,8 @@ fn lightness_grid(photo: &DynamicImage, tensor: &TensorField) -> Vec<f32> {
             let (mut sum, mut n) = (0.0f32, 0.0f32);
             for y in y0..y1.min(h) {
                 for x in x0..x1.min(w) {
-                    let p = rgb.get_pixel(x as u32, y as u32).0;
+                    let i = 3 * (y * w + x);
+                    let p = &rgb.as_raw()[i..i + 3];
                     sum +=
                         0.299 * f32::from(p[0]) + 0.587 * f32::from(p[1]) + 0.114 * f32::from(p[2]);
                     n += 1.0;
