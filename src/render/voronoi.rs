@@ -371,7 +371,7 @@ impl<'a> VoronoiCells<'a> {
                         .filter(|&(c, d)| c != NONE && d <= limit)
                         .map(|(c, d)| (c, d * d + term.cost(colour, c))),
                 );
-                one_piece(term, p, two, |c| {
+                as_mapped(term, p, two, |c| {
                     self.quads[c as usize].delta_squared(p) + term.cost(colour, c)
                 })
             }
@@ -452,7 +452,7 @@ impl<'a> VoronoiCells<'a> {
                         .filter(|&(_, d)| d <= nearest + term.reach)
                         .map(|(i, d)| (i, d * d + term.cost(colour, i))),
                 );
-                let ((s1, c1), (s2, c2)) = one_piece(term, p, two, |i| {
+                let ((s1, c1), (s2, c2)) = as_mapped(term, p, two, |i| {
                     self.delta(i, p).powi(2) + term.cost(colour, i)
                 });
                 ((s1, c1.sqrt()), (s2, c2.sqrt()))
@@ -474,7 +474,7 @@ impl<'a> VoronoiCells<'a> {
 /// owns none of the pixels around `p` (the piece that was there was absorbed) is dropped, so
 /// no border is drawn round a piece that is gone.
 #[inline]
-fn one_piece(
+fn as_mapped(
     term: &ColourTerm,
     p: DVec2,
     two: ((u32, f64), (u32, f64)),
