@@ -11,7 +11,8 @@
 //! side and takes that side's colour; the triangulation is rebuilt after every move, so the
 //! candidates of the owner search stay the anisotropic Delaunay neighbours. Sites on the
 //! domain's boundary stay where they are. Last, small detached pieces of the final cells are
-//! given to their neighbours ([`pieces`](super::pieces)), so every cell is one piece. Positions are `f64`, colours `f32` sRGB in [0, 1].
+//! given to their neighbours ([`pieces`](super::pieces)), so every cell is one piece.
+//! Positions are `f64`, colours `f32` sRGB in [0, 1].
 
 use super::pieces::one_piece;
 use super::raster::{owner_map, pixel_sums, Raster};

@@ -238,6 +238,22 @@ pub fn site_hash(site: u32, salt: u64) -> f32 {
     (z >> 40) as f32 / (1u64 << 24) as f32
 }
 
+/// Bilinear interpolation at `(x, y)` in texel units (texel `(i, j)` at `(i, j)`) of the
+/// texels `texel(i, j)` gives; the caller clamps or wraps indices outside the image.
+pub(super) fn bilinear<const N: usize>(
+    x: f64,
+    y: f64,
+    texel: impl Fn(i64, i64) -> [f32; N],
+) -> [f32; N] {
+    let (x0, y0) = (x.floor(), y.floor());
+    let (tx, ty) = ((x - x0) as f32, (y - y0) as f32);
+    let (i, j) = (x0 as i64, y0 as i64);
+    let lerp = |a: [f32; N], b: [f32; N], t: f32| std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t);
+    let top = lerp(texel(i, j), texel(i + 1, j), tx);
+    let bottom = lerp(texel(i, j + 1), texel(i + 1, j + 1), tx);
+    lerp(top, bottom, ty)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -219,15 +219,13 @@ fn dog_kernel(sigma_c: f32) -> Vec<f32> {
     c.iter().zip(&s).map(|(c, s)| c - RHO * s).collect()
 }
 
-/// `values` (row-major `cols × rows`) at grid position `(x, y)`, bilinear, clamped.
+/// `values` (row-major `cols × rows`) at grid position `(x, y)`, bilinear, clamped at the
+/// grid's edges.
 #[inline]
 fn bilinear(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
-    let x = x.clamp(0.0, (cols - 1) as f32);
-    let y = y.clamp(0.0, (rows - 1) as f32);
-    let (x0, y0) = (x as usize, y as usize);
-    let (x1, y1) = ((x0 + 1).min(cols - 1), (y0 + 1).min(rows - 1));
-    let (tx, ty) = (x - x0 as f32, y - y0 as f32);
-    let top = values[y0 * cols + x0] * (1.0 - tx) + values[y0 * cols + x1] * tx;
-    let bottom = values[y1 * cols + x0] * (1.0 - tx) + values[y1 * cols + x1] * tx;
-    top * (1.0 - ty) + bottom * ty
+    let (last_col, last_row) = (cols as i64 - 1, rows as i64 - 1);
+    let [v] = super::colour::bilinear(f64::from(x), f64::from(y), |i, j| {
+        [values[j.clamp(0, last_row) as usize * cols + i.clamp(0, last_col) as usize]]
+    });
+    v
 }

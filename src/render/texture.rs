@@ -12,7 +12,7 @@
 //! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
-use super::colour::{lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
+use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
 use super::mosaic::border_coverage;
 use super::scene::Scene;
 use glam::DVec2;
@@ -451,14 +451,16 @@ fn stipple_radius(cover: f32) -> f64 {
             .collect()
     });
     let c = f64::from(cover.clamp(0.0, 1.0));
-    match inked.iter().position(|&v| v >= c) {
-        Some(0) => 0.0,
-        Some(k) => {
+    // The table grows with the radius: the first radius that inks at least `c`, by bisection
+    // (this runs at every raster point of a stippled cell).
+    match inked.partition_point(|&v| v < c) {
+        0 => 0.0,
+        k if k > DOT_STEPS => DOT_MAX_RADIUS,
+        k => {
             let (lo, hi) = (inked[k - 1], inked[k]);
             let t = if hi > lo { (c - lo) / (hi - lo) } else { 1.0 };
             DOT_MAX_RADIUS * ((k - 1) as f64 + t) / DOT_STEPS as f64
         }
-        None => DOT_MAX_RADIUS,
     }
 }
 
@@ -520,18 +522,6 @@ fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
         [f32::from(pixel.0[0]) / 255.0]
     });
     grey
-}
-
-/// Bilinear interpolation at `(x, y)` in texel units (texel `(i, j)` at `(i, j)`) of the
-/// texels `texel(i, j)` gives; the caller clamps or wraps indices outside the image.
-fn bilinear<const N: usize>(x: f64, y: f64, texel: impl Fn(i64, i64) -> [f32; N]) -> [f32; N] {
-    let (x0, y0) = (x.floor(), y.floor());
-    let (tx, ty) = ((x - x0) as f32, (y - y0) as f32);
-    let (i, j) = (x0 as i64, y0 as i64);
-    let lerp = |a: [f32; N], b: [f32; N], t: f32| std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t);
-    let top = lerp(texel(i, j), texel(i + 1, j), tx);
-    let bottom = lerp(texel(i, j + 1), texel(i + 1, j + 1), tx);
-    lerp(top, bottom, ty)
 }
 
 #[cfg(test)]

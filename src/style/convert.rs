@@ -187,8 +187,10 @@ impl Preset {
         // Keys of the other kinds are ignored but checked all the same, so a bad value is
         // an error now rather than when the preset switches kind.
         for other in ["mosaic", "hatch", "glyphs", "fabric"] {
-            if let Some(mut other) = Look::named(other) {
-                self.configure(&mut other)?;
+            match Look::named(other) {
+                Some(ref o) if std::mem::discriminant(o) == std::mem::discriminant(&look) => {}
+                Some(mut other) => self.configure(&mut other)?,
+                None => {}
             }
         }
         self.configure(&mut look)?;

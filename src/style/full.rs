@@ -26,6 +26,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
     let m = preset.metric()?;
     let s = preset.sampler()?;
     let cells = preset.cells()?;
+    let outline = preset.outline()?;
     let given = &preset.file.look;
     let mut look = LookSection {
         kind: Some(given.kind.clone().unwrap_or(Look::DEFAULT_NAME.into())),
@@ -41,8 +42,8 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
         cell_reach: Some(cells.reach),
         cell_blur_px: Some(cells.blur_px),
         supersample: Some(preset.supersample()?),
-        outlines: Some(preset.outline()?.strength),
-        outline_scale: Some(preset.outline()?.scale),
+        outlines: Some(outline.strength),
+        outline_scale: Some(outline.scale),
         ..LookSection::default()
     };
     match preset.look()? {
