@@ -28,22 +28,16 @@ pub const MAX_SIDE: u32 = 1 << 16;
 /// applies its EXIF orientation. The format is read from the file's content, not its name;
 /// `-` reads standard input. A file cut short is refused, whatever the decoder would make of it.
 pub fn read_photo(path: &Path) -> Result<DynamicImage> {
-    let bytes = if is_stdout(path) {
-        let mut bytes = Vec::new();
-        std::io::stdin()
-            .lock()
-            .read_to_end(&mut bytes)
-            .map_err(|e| Error::io(STDIN_NAME, e))?;
-        bytes
-    } else {
-        std::fs::read(path).map_err(|e| Error::io(path, e))?
-    };
-    let path = if is_stdout(path) {
-        Path::new(STDIN_NAME)
-    } else {
-        path
-    };
-    decode_photo(path, &bytes)
+    if !is_stdout(path) {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        return decode_photo(path, &bytes);
+    }
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(STDIN_NAME, e))?;
+    decode_photo(Path::new(STDIN_NAME), &bytes)
 }
 
 /// How messages name standard input.
