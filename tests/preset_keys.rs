@@ -10,7 +10,7 @@ use anisopaint::progress::Silent;
 use anisopaint::style;
 
 /// Every numeric key, with whether it takes an integer.
-const KEYS: [(&str, bool); 33] = [
+const KEYS: [(&str, bool); 38] = [
     ("metric.min_size", false),
     ("metric.max_size", false),
     ("metric.max_anisotropy", false),
@@ -38,6 +38,11 @@ const KEYS: [(&str, bool); 33] = [
     ("look.cross_weight", false),
     ("look.thickness", false),
     ("look.contrast", false),
+    ("look.line_spacing", false),
+    ("look.edge_break", false),
+    ("look.flat_angle", false),
+    ("look.tone", false),
+    ("look.ground", false),
     ("look.outlines", false),
     ("look.outline_scale", false),
     // Enumerated keys take numbers too when a user gets them wrong.

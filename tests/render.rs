@@ -190,7 +190,9 @@ fn black_and_white_photos_give_the_expected_colours() {
         // The most frequent colour: cells, paper or glyph fill (borders and lines are thin).
         let (on_white, on_black) = match look {
             "mosaic" | "glyphs" | "stroke" => ([255; 3], [0; 3]),
-            "hatch" | "crosshatch" | "stipple" => (paper, ink),
+            // Black is inked twice over (darker than one layer of ink can be).
+            "hatch" | "crosshatch" | "stipple" => (paper, [0; 3]),
+            "engraving" => (paper, ink),
             // The line is the cell's own colour, darkened: black on black.
             "line" => (paper, [0; 3]),
             // Threads darken and lighten the colour: only black stays exactly black.

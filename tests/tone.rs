@@ -49,7 +49,7 @@ fn profile(img: &RgbImage, bands: u32) -> Vec<f64> {
 fn a_hatched_ramp_keeps_its_tones() {
     let photo = ramp();
     let expected = profile(&photo, 10);
-    for style in ["pen-hatch", "crosshatch", "pointillist"] {
+    for style in ["pen-hatch", "crosshatch", "pointillist", "engraving"] {
         let preset = anisopaint::style::load(style).unwrap();
         let gamma = f64::from(preset.file.look.gamma.unwrap_or(1.0));
         let recipe = Recipe::from_preset(&preset, Default::default(), Some(2)).unwrap();

@@ -202,7 +202,8 @@ pub fn draw(
 }
 
 /// The cells `recipe` asks for. Fabric and LIC lay their threads from the samples as the
-/// sampler packed them, so they always take the paper's cells.
+/// sampler packed them, and the engraving's lines cross cells (it seeds from the samples), so
+/// they always take the paper's cells.
 fn cell_sites(loaded: &LoadedField, samples: &Samples, recipe: &Recipe) -> CellSites {
     let (positions, metrics, mesh) = (
         samples.positions.clone(),
@@ -210,7 +211,7 @@ fn cell_sites(loaded: &LoadedField, samples: &Samples, recipe: &Recipe) -> CellS
         samples.mesh.clone(),
     );
     let mut params = recipe.cells.clone();
-    if matches!(recipe.look, Look::Fabric(_)) {
+    if matches!(recipe.look, Look::Fabric(_) | Look::Engraving(_)) {
         params.kind = CellKind::Voronoi;
     }
     CellSites::new(

@@ -71,6 +71,10 @@ pub struct GlyphParams {
     /// Paint the cells in their colours first (no borders), so overlapping glyphs such as
     /// brush strokes leave no paper showing.
     pub underpaint: bool,
+    /// Without underpainting, how much of its cell's colour the ground under a glyph takes
+    /// (0: the plain background; 1: the cell's colour). Over a photo, glyph colours are then
+    /// solved so that glyph and ground average to the cell's colour ([`placed`]).
+    pub ground: f32,
 }
 
 impl Default for GlyphParams {
@@ -85,6 +89,7 @@ impl Default for GlyphParams {
             background: [250, 248, 242],
             seed: 0,
             underpaint: false,
+            ground: 0.0,
         }
     }
 }
@@ -103,6 +108,12 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
             *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
         }
         underpainting = Some(cells);
+    } else if params.ground > 0.0 && tone_kept(scene, params) {
+        let wash = scene.shade(|_, o| ground_colour(params, scene.colours[o.site as usize]));
+        for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(wash.pixels()) {
+            let [cr, cg, cb] = rgb.0;
+            *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
+        }
     } else {
         let bg = params.background;
         pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
@@ -220,10 +231,52 @@ fn glyph_paint(shape: Shape, colour: Linear, b: f32, k: u32) -> Paint<'static> {
     paint
 }
 
+/// Whether glyph colours are solved for the photo's tone: glyphs in the photo's colours over
+/// a background or ground (an underpainting already has the tone).
+pub(super) fn tone_kept(scene: &Scene, params: &GlyphParams) -> bool {
+    scene.photo.is_some() && !params.underpaint && params.colour == GlyphColour::Cell
+}
+
+/// The ground under the glyph of a cell of colour `c`: the background, `ground` of the way to
+/// `c` in the sRGB encoding.
+pub(super) fn ground_colour(params: &GlyphParams, c: Linear) -> Linear {
+    let bg = linear_of(params.background);
+    std::array::from_fn(|k| encoded_mix(bg[k], c[k], params.ground))
+}
+
+/// `a + (b − a)·t` in the sRGB encoding (how paint and paper average seen from afar).
+fn encoded_mix(a: f32, b: f32, t: f32) -> f32 {
+    let enc = |v: f32| f32::from(to_srgb(v));
+    let e = enc(a) + (enc(b) - enc(a)) * t;
+    super::colour::to_linear(e.round().clamp(0.0, 255.0) as u8)
+}
+
 /// Glyph centres, metrics and colours for the placement, in drawing order: brush strokes
 /// broad first and details over them (ties keep the sample order), others as placed.
+///
+/// Where [`tone_kept`], a glyph's colour is solved so that it and the ground around it
+/// average to the cell's colour seen from afar: with `κ` the share of the picture the glyphs
+/// cover (their areas over the domain's), `glyph = (c − (1 − κ)·ground) / κ` in the sRGB
+/// encoding, clamped (a cell darker than its ground allows stays as dark as ink can make it).
 pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
     let mut glyphs = placed_unordered(scene, params);
+    if tone_kept(scene, params) {
+        let s2 = f64::from(params.scale).powi(2);
+        let area: f64 = glyphs
+            .iter()
+            .map(|(_, m, _)| std::f64::consts::PI * m.det().abs() * s2)
+            .sum();
+        let d = scene.field.domain();
+        let kappa = (area / (d.x * d.y).max(1e-9)).clamp(0.3, 0.97) as f32;
+        for (_, _, c) in &mut glyphs {
+            let g = ground_colour(params, *c);
+            let enc = |v: f32| f32::from(to_srgb(v));
+            *c = std::array::from_fn(|k| {
+                let e = (enc(c[k]) - (1.0 - kappa) * enc(g[k])) / kappa;
+                super::colour::to_linear(e.round().clamp(0.0, 255.0) as u8)
+            });
+        }
+    }
     if params.shape == Shape::Brush {
         let area = |m: &Tensor| m.det().abs();
         glyphs.sort_by(|a, b| area(&b.1).total_cmp(&area(&a.1)));

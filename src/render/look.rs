@@ -16,6 +16,8 @@ pub enum Look {
     Glyphs(super::glyphs::GlyphParams),
     /// LIC along the eigenvector fields of sample-seeded noise (paper 7.3).
     Fabric(super::fabric::FabricParams),
+    /// Evenly spaced streamlines along the field, swelling with tone.
+    Engraving(super::engrave::EngravingParams),
 }
 
 impl Look {
@@ -33,6 +35,7 @@ impl Look {
             "stroke" => texture(TextureKind::Stroke),
             "stipple" => texture(TextureKind::Stipple),
             "glyphs" => Look::Glyphs(super::glyphs::GlyphParams::default()),
+            "engraving" => Look::Engraving(super::engrave::EngravingParams::default()),
             "fabric" => Look::Fabric(FabricParams::default()),
             "lic" => Look::Fabric(FabricParams {
                 noise: Noise::White,
@@ -47,7 +50,7 @@ impl Look {
     pub const DEFAULT_NAME: &'static str = "mosaic";
 
     /// The names [`Look::named`] knows.
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 10] = [
         "mosaic",
         "hatch",
         "crosshatch",
@@ -55,6 +58,7 @@ impl Look {
         "stroke",
         "stipple",
         "glyphs",
+        "engraving",
         "fabric",
         "lic",
     ];
@@ -79,6 +83,7 @@ impl Look {
             Look::Texture(p) => super::texture::textured(scene, p),
             Look::Glyphs(p) => super::glyphs::glyphs(scene, p),
             Look::Fabric(p) => super::fabric::fabric(scene, p),
+            Look::Engraving(p) => super::engrave::engraving(scene, p),
         }
     }
 }

@@ -11,6 +11,7 @@
 
 pub mod cells;
 pub mod colour;
+pub mod engrave;
 pub mod fabric;
 pub mod font;
 pub mod glyphs;
@@ -22,6 +23,7 @@ pub mod preview;
 pub mod raster;
 pub mod scene;
 pub mod sheet;
+pub mod streamlines;
 pub mod svg;
 pub mod texture;
 pub mod trace;

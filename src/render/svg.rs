@@ -11,6 +11,7 @@
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
 
 use super::colour::{linear_of, mix, to_srgb, Linear};
+use super::engrave::{engrave, EngravingParams};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
@@ -58,6 +59,7 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
             cells(&mut out, scene, &colours, border);
         }
         Look::Glyphs(p) => glyphs(&mut out, scene, p),
+        Look::Engraving(p) => engraved(&mut out, scene, p),
         // Refused above.
         Look::Fabric(_) => {}
     }
@@ -304,12 +306,59 @@ fn num(v: f32) -> Num {
     Num(v)
 }
 
+/// Writes the engraving of `scene`: paper, then every line as one filled outline whose width
+/// follows the raster's (its two sides offset by half the width at every point).
+fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
+    let r = scene.raster;
+    let scale = glam::DVec2::new(r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let ppu = scale.x.min(scale.y);
+    let _ = writeln!(
+        out,
+        r#"<rect width="100%" height="100%" fill="{}"/>"#,
+        hex(linear_of(params.paper))
+    );
+    let _ = writeln!(out, r#"<g fill="{}">"#, hex(linear_of(params.ink)));
+    let e = engrave(scene, params);
+    let mut outline = Vec::new();
+    for (line, widths) in e.lines.iter().zip(&e.widths) {
+        let pts = &line.points;
+        if pts.len() < 2 || widths.iter().all(|&w| w * ppu < 0.05) {
+            continue;
+        }
+        outline.clear();
+        let normal = |i: usize| {
+            (pts[(i + 1).min(pts.len() - 1)] - pts[i.saturating_sub(1)])
+                .normalize_or_zero()
+                .perp()
+        };
+        for (i, &p) in pts.iter().enumerate() {
+            let q = (p + normal(i) * (0.5 * widths[i])) * scale;
+            outline.push([q.x as f32, q.y as f32]);
+        }
+        for (i, &p) in pts.iter().enumerate().rev() {
+            let q = (p - normal(i) * (0.5 * widths[i])) * scale;
+            outline.push([q.x as f32, q.y as f32]);
+        }
+        let mut d = String::new();
+        path_data(&mut d, &outline, true);
+        let _ = writeln!(out, r#"<path d="{d}"/>"#);
+    }
+    out.push_str("</g>\n");
+}
+
 /// Writes the glyphs of `scene` as vector shapes.
 fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
     let r = scene.raster;
     let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
     if params.underpaint {
         cells(out, scene, &scene.colours, None);
+    } else if params.ground > 0.0 && super::glyphs::tone_kept(scene, params) {
+        let ground: Vec<Linear> = scene
+            .colours
+            .iter()
+            .map(|&c| super::glyphs::ground_colour(params, c))
+            .collect();
+        cells(out, scene, &ground, None);
     } else {
         let _ = writeln!(
             out,

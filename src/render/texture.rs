@@ -164,7 +164,9 @@ impl Frame {
 /// `(paper − target) / (paper − ink)` (all perceived lightness, the sRGB encoding of the
 /// luminance, which is what ink on paper averages to at a distance, since the
 /// shading mixes paper and ink in that encoding too): a light cell on off-white paper takes
-/// no ink, and coloured dots cover as much as their own colour needs.
+/// no ink, and coloured dots cover as much as their own colour needs. A cell darker than the
+/// ink itself is covered and inked again (a second layer over the first, as a pen goes over a
+/// solid black), its ink darkened to the target, down to black for a black photo.
 #[must_use]
 pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linear)> {
     let paper = lightness(linear_of(params.paper));
@@ -172,10 +174,15 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
         .iter()
         .map(|&colour| {
             let target = 1.0 - (1.0 - lightness(colour)).clamp(0.0, 1.0).powf(params.gamma);
-            let ink = match params.ink {
+            let mut ink = match params.ink {
                 Ink::Fixed(rgb) => linear_of(rgb),
                 Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
             };
+            let ink_luminance = super::colour::luminance(ink);
+            if target < lightness(ink) && ink_luminance > 0.0 {
+                let k = crate::field::structure::srgb_to_linear(target) / ink_luminance;
+                ink = ink.map(|v| v * k.clamp(0.0, 1.0));
+            }
             let room = paper - lightness(ink);
             let cover = if room > 1e-3 {
                 ((paper - target) / room).clamp(0.0, 1.0)

@@ -8,6 +8,7 @@ use super::preset::{Preset, BUILT_IN_TEXTURES};
 use crate::error::{Error, Result};
 use crate::field::MetricParams;
 use crate::render::cells::{CellKind, CellParams};
+use crate::render::engrave::EngravingParams;
 use crate::render::fabric::FabricParams;
 use crate::render::glyphs::{GlyphParams, Placement, Shape};
 use crate::render::mosaic::MosaicParams;
@@ -186,7 +187,7 @@ impl Preset {
         })?;
         // Keys of the other kinds are ignored but checked all the same, so a bad value is
         // an error now rather than when the preset switches kind.
-        for other in ["mosaic", "hatch", "glyphs", "fabric"] {
+        for other in ["mosaic", "hatch", "glyphs", "fabric", "engraving"] {
             match Look::named(other) {
                 Some(ref o) if std::mem::discriminant(o) == std::mem::discriminant(&look) => {}
                 Some(mut other) => self.configure(&mut other)?,
@@ -204,6 +205,7 @@ impl Preset {
             Look::Texture(p) => self.texture(p),
             Look::Glyphs(p) => self.glyphs(p),
             Look::Fabric(p) => self.fabric(p),
+            Look::Engraving(p) => self.engraving(p),
         }
     }
 
@@ -334,7 +336,53 @@ impl Preset {
             p.shape = glyph_shape(shape)?;
         }
         p.underpaint = l.underpaint.unwrap_or(p.underpaint);
+        p.ground = ranged("look.ground", l.ground, p.ground, UNIT)?;
         p.seed = self.sampler()?.seed;
+        Ok(())
+    }
+
+    fn engraving(&self, p: &mut EngravingParams) -> Result<()> {
+        let l = &self.file.look;
+        p.line_spacing = ranged(
+            "look.line_spacing",
+            l.line_spacing,
+            p.line_spacing,
+            (0.0005, 0.2),
+        )?;
+        p.min_spacing_px = ranged(
+            "look.min_spacing_px",
+            l.min_spacing_px,
+            p.min_spacing_px,
+            (0.5, 200.0),
+        )?;
+        p.gamma = ranged("look.gamma", l.gamma, p.gamma, (0.05, 20.0))?;
+        p.edge_break = ranged("look.edge_break", l.edge_break, p.edge_break, (0.0, 10.0))?;
+        p.flat_angle = ranged(
+            "look.flat_angle",
+            l.flat_angle,
+            p.flat_angle,
+            (-360.0, 360.0),
+        )?;
+        p.tone = ranged("look.tone", l.tone, p.tone, UNIT)?;
+        if let Some(c) = &l.paper {
+            p.paper = colour("look.paper", c)?;
+        }
+        // "cell" and "pixel" are the textures' inks: checked there, refused only when the
+        // engraving itself is asked for.
+        let active = l.kind.as_deref() == Some("engraving");
+        match l.ink.as_deref() {
+            None => {}
+            Some("black") => p.ink = BLACK_INK,
+            Some("cell" | "pixel") if !active => {}
+            Some(other) => {
+                p.ink = colour("look.ink", other).map_err(|_| {
+                    Error::param(
+                        "look.ink",
+                        format!("{other}: an engraving's ink is \"black\" or #rrggbb"),
+                    )
+                })?;
+            }
+        }
         Ok(())
     }
 

@@ -90,6 +90,21 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
                 Shape::Superquadric(power) => format!("superquadric:{power}"),
             });
             look.underpaint = Some(p.underpaint);
+            look.ground = Some(p.ground);
+        }
+        Look::Engraving(p) => {
+            look.line_spacing = Some(p.line_spacing);
+            look.min_spacing_px = Some(p.min_spacing_px);
+            look.gamma = Some(p.gamma);
+            look.edge_break = Some(p.edge_break);
+            look.flat_angle = Some(p.flat_angle);
+            look.tone = Some(p.tone);
+            look.paper = Some(hex(p.paper));
+            look.ink = Some(if p.ink == BLACK_INK {
+                "black".to_string()
+            } else {
+                hex(p.ink)
+            });
         }
         Look::Fabric(p) => {
             look.kernel_px = Some(p.kernel_px);

@@ -30,10 +30,14 @@ mod tests {
     fn textures_come_from_beside_the_preset_or_the_built_in_ones() {
         let dir = tempfile::tempdir().unwrap();
         let own = dir.path().join("mine.toml");
-        std::fs::write(&own, "extends = \"engraving\"\n").unwrap();
+        std::fs::write(
+            &own,
+            "[look]\nkind = \"hatch\"\ntexture = \"engraving.png\"\n",
+        )
+        .unwrap();
         let look = load(own.to_str().unwrap()).unwrap().look().unwrap();
         let Look::Texture(p) = look else {
-            panic!("engraving is a textured look")
+            panic!("a hatch is a textured look")
         };
         assert_eq!(
             p.kind,

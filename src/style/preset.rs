@@ -80,7 +80,7 @@ pub struct SamplerSection {
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
 pub struct LookSection {
-    /// mosaic, hatch, crosshatch, line, stroke, stipple, glyphs, fabric or lic.
+    /// mosaic, hatch, crosshatch, line, stroke, stipple, glyphs, engraving, fabric or lic.
     pub kind: Option<String>,
     /// "edges" (cells that stop at the photo's edges) or "voronoi" (the paper's cells).
     pub cells: Option<String>,
@@ -112,6 +112,8 @@ pub struct LookSection {
     pub shape: Option<String>,
     /// Paint the cells in their colours under the glyphs.
     pub underpaint: Option<bool>,
+    /// Glyphs: how much of its cell's colour the ground under a glyph takes (0 to 1).
+    pub ground: Option<f32>,
     pub glyph_scale: Option<f32>,
     pub outline_width: Option<f32>,
     pub background: Option<String>,
@@ -119,6 +121,14 @@ pub struct LookSection {
     pub cross_weight: Option<f32>,
     pub thickness: Option<f32>,
     pub contrast: Option<f32>,
+    /// Engraving: spacing of the lines as a fraction of the diagonal.
+    pub line_spacing: Option<f32>,
+    /// Engraving: lightness step over one spacing along a line that breaks it.
+    pub edge_break: Option<f32>,
+    /// Engraving: direction of the lines where the field has none (degrees).
+    pub flat_angle: Option<f32>,
+    /// Engraving: lightness of a field without a photo.
+    pub tone: Option<f32>,
     /// Ink of the outlines along the photo's edges, 0 (none) to 1; any look.
     pub outlines: Option<f32>,
     /// Width of the outlines relative to the default.
@@ -293,6 +303,7 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             texture: o.texture.or(b.texture),
             shape: o.shape.or(b.shape),
             underpaint: o.underpaint.or(b.underpaint),
+            ground: o.ground.or(b.ground),
             placement: o.placement.or(b.placement),
             glyph_scale: o.glyph_scale.or(b.glyph_scale),
             outline_width: o.outline_width.or(b.outline_width),
@@ -301,6 +312,10 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             cross_weight: o.cross_weight.or(b.cross_weight),
             thickness: o.thickness.or(b.thickness),
             contrast: o.contrast.or(b.contrast),
+            line_spacing: o.line_spacing.or(b.line_spacing),
+            edge_break: o.edge_break.or(b.edge_break),
+            flat_angle: o.flat_angle.or(b.flat_angle),
+            tone: o.tone.or(b.tone),
             outlines: o.outlines.or(b.outlines),
             outline_scale: o.outline_scale.or(b.outline_scale),
         },

@@ -1,0 +1,317 @@
+//! The engraving look (issue 13, item 3; after Ostromoukhov, *Digital Facial Engraving*, 1999):
+//! long parallel lines that follow the form across the whole picture, evenly spaced
+//! ([`super::streamlines`], along the metric's long axes, paper section 3) and swelling and
+//! thinning with tone, broken only at strong edges.
+//!
+//! A line's width at a point is its share of the paper across the lines (`≈ d_sep`) times the
+//! ink coverage that gives the photo's lightness there, `(paper − target) / (paper − ink)` with
+//! the tone curve `target = 1 − (1 − L)^gamma`, so the picture seen from afar has the photo's
+//! tones: light areas paper-white, dark ones nearly solid. The tone is the photo's lightness
+//! blurred over half a line spacing (finer than the cells), or `tone` for a field without a
+//! photo. Lines are drawn with an exact one-dimensional box filter across them (a hairline
+//! keeps its share of ink), joined round, the inks of overlapping lines taking the maximum, and
+//! mixed with the paper in the sRGB encoding, as the hatch looks are ([`super::texture`]).
+//! Coverage is `f32`, geometry `f64` in domain units until it is scaled to output pixels.
+
+use super::colour::{bilinear, lightness, linear_of};
+use super::scene::Scene;
+use super::streamlines::{streamlines, Directions, LineLayout, Streamline};
+use super::texture::BLACK_INK;
+use glam::DVec2;
+use image::RgbImage;
+use rayon::prelude::*;
+
+/// Parameters of the engraving look.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EngravingParams {
+    /// Spacing of the lines as a fraction of the picture's diagonal.
+    pub line_spacing: f32,
+    /// The lines are never closer than this many output pixels.
+    pub min_spacing_px: f32,
+    /// Ink colour, sRGB.
+    pub ink: [u8; 3],
+    /// Paper colour, sRGB.
+    pub paper: [u8; 3],
+    /// Tone curve: darkness = (1 − lightness)^gamma; below 1 darkens, above 1 lightens.
+    pub gamma: f32,
+    /// A line breaks where the photo's lightness changes by more than this (0 to 1) over one
+    /// line spacing along it.
+    pub edge_break: f32,
+    /// Direction of the lines where the field has none (degrees from the x axis, clockwise on
+    /// screen as y points down).
+    pub flat_angle: f32,
+    /// Lightness (0 to 1) of a field without a photo.
+    pub tone: f32,
+}
+
+impl Default for EngravingParams {
+    fn default() -> Self {
+        EngravingParams {
+            line_spacing: 0.004,
+            min_spacing_px: 2.0,
+            ink: BLACK_INK,
+            paper: [247, 243, 232],
+            gamma: 1.0,
+            edge_break: 0.35,
+            flat_angle: -45.0,
+            tone: 0.6,
+        }
+    }
+}
+
+/// A laid-out engraving: its lines with a width (domain units) at every point.
+#[derive(Clone, Debug, Default)]
+pub struct Engraving {
+    /// The lines.
+    pub lines: Vec<Streamline>,
+    /// Width of the ink at every point of every line.
+    pub widths: Vec<Vec<f64>>,
+    /// Separation of the lines, domain units.
+    pub d_sep: f64,
+}
+
+/// The photo's lightness (sRGB-encoded luminance, 0 to 1) on a coarse grid, blurred.
+struct Tone {
+    values: Vec<f32>,
+    cols: usize,
+    rows: usize,
+    /// Domain units per node.
+    step: f64,
+}
+
+impl Tone {
+    fn of(scene: &Scene, d_sep: f64) -> Option<Tone> {
+        use crate::field::structure::linear_analysis_image;
+        let photo = scene.photo?;
+        let domain = scene.raster.domain;
+        let photo_per_unit = f64::from(photo.width()) / domain.x.max(1e-9);
+        // Nodes about a third of a spacing apart: the blur of half a spacing is resolved.
+        let factor = ((d_sep * photo_per_unit / 3.0).floor() as usize).max(1);
+        let image = linear_analysis_image(photo, factor);
+        let mut values: Vec<f32> = image
+            .data
+            .chunks_exact(3)
+            .map(|c| lightness([c[0], c[1], c[2]]))
+            .collect();
+        let step = factor as f64 / photo_per_unit;
+        crate::field::blur::gaussian_blur_parallel_mut(
+            &mut values,
+            image.width,
+            image.height,
+            1,
+            (TONE_BLUR * d_sep / step) as f32,
+        );
+        Some(Tone {
+            values,
+            cols: image.width,
+            rows: image.height,
+            step,
+        })
+    }
+
+    fn at(&self, p: DVec2) -> f32 {
+        let x = (p.x / self.step - 0.5).clamp(0.0, (self.cols - 1) as f64);
+        let y = (p.y / self.step - 0.5).clamp(0.0, (self.rows - 1) as f64);
+        let (last_c, last_r) = (self.cols as i64 - 1, self.rows as i64 - 1);
+        let [v] = bilinear(x, y, |i, j| {
+            [self.values[j.min(last_r) as usize * self.cols + i.min(last_c) as usize]]
+        });
+        v
+    }
+}
+
+/// The lines of `scene` engraved with `params`, and their widths.
+#[must_use]
+pub fn engrave(scene: &Scene, params: &EngravingParams) -> Engraving {
+    let domain = scene.raster.domain;
+    let ppu = scene.pixels_per_unit;
+    let d_sep = (f64::from(params.line_spacing) * domain.length())
+        .max(f64::from(params.min_spacing_px) / ppu);
+    let tone = Tone::of(scene, d_sep);
+    let lightness_at = |p: DVec2| tone.as_ref().map_or(params.tone, |t| t.at(p));
+    let layout = LineLayout {
+        d_sep,
+        flat_angle: f64::from(params.flat_angle).to_radians(),
+        edge_break: if tone.is_some() {
+            params.edge_break
+        } else {
+            f32::INFINITY
+        },
+    };
+    let directions = Directions::new(scene.field, layout.flat_angle, d_sep);
+    let lines = streamlines(
+        &directions,
+        &lightness_at,
+        domain,
+        &layout,
+        scene.cells.positions(),
+    );
+    let paper = lightness(linear_of(params.paper));
+    let room = paper - lightness(linear_of(params.ink));
+    let widths = lines
+        .par_iter()
+        .map(|line| {
+            line.points
+                .iter()
+                .zip(&line.shares)
+                .map(|(&p, &share)| {
+                    let l = lightness_at(p).clamp(0.0, 1.0);
+                    let target = 1.0 - (1.0 - l).powf(params.gamma);
+                    let cover = if room > 1e-3 {
+                        ((paper - target) / room).clamp(0.0, 1.0)
+                    } else {
+                        1.0
+                    };
+                    f64::from(cover) * share
+                })
+                .collect()
+        })
+        .collect();
+    Engraving {
+        lines,
+        widths,
+        d_sep,
+    }
+}
+
+/// Renders the engraving of `scene`.
+#[must_use]
+pub fn engraving(scene: &Scene, params: &EngravingParams) -> RgbImage {
+    let e = engrave(scene, params);
+    let r = scene.raster;
+    let cover = coverage(&e, r.width, r.height, r.domain);
+    let (paper, ink) = (params.paper.map(f32::from), params.ink.map(f32::from));
+    let mut out = vec![0u8; 3 * r.width * r.height];
+    out.par_chunks_mut(3 * r.width)
+        .zip(cover.par_chunks(r.width))
+        .for_each(|(row, cov)| {
+            for (px, &c) in row.chunks_exact_mut(3).zip(cov) {
+                for k in 0..3 {
+                    px[k] = (paper[k] + (ink[k] - paper[k]) * c)
+                        .round()
+                        .clamp(0.0, 255.0) as u8;
+                }
+            }
+        });
+    RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
+}
+
+/// Rows of output per band of the parallel rasterisation.
+const BAND_ROWS: usize = 16;
+
+/// A piece of a line between two of its points, in output pixels, with the half-widths of the
+/// ink at both ends.
+struct Segment {
+    a: DVec2,
+    b: DVec2,
+    ra: f64,
+    rb: f64,
+    line: u32,
+}
+
+/// Ink coverage (0 to 1) of every output pixel, row-major. Within a line the coverage of its
+/// segments is the largest (they overlap at every joint); the coverages of different lines add
+/// up (neighbouring lines in a dark area share the pixels between them, and together ink them
+/// fully), capped at 1.
+fn coverage(e: &Engraving, width: usize, height: usize, domain: DVec2) -> Vec<f32> {
+    let scale = DVec2::new(width as f64 / domain.x, height as f64 / domain.y);
+    let ppu = scale.x.min(scale.y);
+    let mut segments: Vec<Segment> = Vec::new();
+    for (id, (line, widths)) in e.lines.iter().zip(&e.widths).enumerate() {
+        for i in 0..line.points.len().saturating_sub(1) {
+            let (ra, rb) = (0.5 * widths[i] * ppu, 0.5 * widths[i + 1] * ppu);
+            if ra.max(rb) > 1e-3 {
+                segments.push(Segment {
+                    a: line.points[i] * scale,
+                    b: line.points[i + 1] * scale,
+                    ra,
+                    rb,
+                    line: id as u32,
+                });
+            }
+        }
+    }
+    let bands = height.div_ceil(BAND_ROWS);
+    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
+    for (k, s) in segments.iter().enumerate() {
+        let reach = s.ra.max(s.rb) + 1.0;
+        let y0 = ((s.a.y.min(s.b.y) - reach).floor().max(0.0) as usize) / BAND_ROWS;
+        let y1 = ((s.a.y.max(s.b.y) + reach).ceil().max(0.0) as usize / BAND_ROWS).min(bands - 1);
+        for band in in_band.iter_mut().take(y1 + 1).skip(y0) {
+            band.push(k as u32);
+        }
+    }
+    let mut cover = vec![0.0f32; width * height];
+    cover
+        .par_chunks_mut(BAND_ROWS * width)
+        .zip(&in_band)
+        .enumerate()
+        .for_each(|(band, (rows, list))| {
+            // Per band, not per pixel: the line last drawn at each pixel and its coverage there.
+            let mut last = BandLayer {
+                line: vec![u32::MAX; rows.len()],
+                own: vec![0.0; rows.len()],
+                others: rows,
+                width,
+                y_start: band * BAND_ROWS,
+            };
+            for &k in list {
+                last.stamp(&segments[k as usize]);
+            }
+            for (o, own) in last.others.iter_mut().zip(&last.own) {
+                *o = (*o + own).min(1.0);
+            }
+        });
+    cover
+}
+
+/// One band's coverage while it is drawn: `others` holds the lines finished at each pixel,
+/// `own` the coverage of the line being drawn there (`line`).
+struct BandLayer<'a> {
+    line: Vec<u32>,
+    own: Vec<f32>,
+    others: &'a mut [f32],
+    width: usize,
+    y_start: usize,
+}
+
+impl BandLayer<'_> {
+    /// Draws segment `s` into the band's rows.
+    fn stamp(&mut self, s: &Segment) {
+        let (a, b) = (s.a, s.b);
+        let reach = s.ra.max(s.rb) + 1.0;
+        let y_end = self.y_start + self.others.len() / self.width;
+        let x0 = (a.x.min(b.x) - reach).floor().max(0.0) as usize;
+        let x1 = ((a.x.max(b.x) + reach).ceil().max(0.0) as usize).min(self.width);
+        let y0 = ((a.y.min(b.y) - reach).floor().max(0.0) as usize).max(self.y_start);
+        let y1 = ((a.y.max(b.y) + reach).ceil().max(0.0) as usize).min(y_end);
+        let ab = b - a;
+        let len2 = ab.length_squared().max(1e-12);
+        for y in y0..y1 {
+            let base = (y - self.y_start) * self.width;
+            for x in x0..x1 {
+                let c = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                let t = ((c - a).dot(ab) / len2).clamp(0.0, 1.0);
+                let d = (c - (a + ab * t)).length();
+                let r = s.ra + (s.rb - s.ra) * t;
+                // The share of a pixel's width that a band of half-width r at distance d covers.
+                let v = ((d + r).min(0.5) - (d - r).max(-0.5)).max(0.0) as f32;
+                if v <= 0.0 {
+                    continue;
+                }
+                let i = base + x;
+                if self.line[i] == s.line {
+                    self.own[i] = self.own[i].max(v);
+                } else {
+                    self.others[i] += self.own[i];
+                    self.line[i] = s.line;
+                    self.own[i] = v;
+                }
+            }
+        }
+    }
+}
+
+/// σ of the tone's blur as a share of the line spacing: the width follows detail along a line
+/// down to about this scale (across the lines the spacing itself is the limit).
+const TONE_BLUR: f64 = 0.2;

@@ -1,0 +1,355 @@
+//! Evenly spaced streamlines of the field's long axes (Jobard and Lefer, *Creating Evenly-Spaced
+//! Streamlines of Arbitrary Density*, 1997), the lines of the engraving look
+//! ([`super::engrave`]). A line runs along the major eigenvector of the metric (paper section 3:
+//! along the photo's edges, the minor direction of its structure tensor) and is traced both ways
+//! from a seed with midpoint (RK2) steps until it leaves the domain, comes closer than `d_test`
+//! to a line already laid (or to itself), turns too sharply (a singularity of the field), or
+//! crosses a strong edge of the tone. New seeds go at `d_sep` on either side of every line
+//! laid, line after line, so the lines fill the picture as neighbours of each other; what that
+//! leaves (areas cut off by edges) is seeded from the samples' positions (the paper's
+//! particles), then from a grid.
+//!
+//! Where the metric is round it says no direction; there a constant direction takes over
+//! smoothly (`flat_angle`, as an engraver shades a flat area with one set of parallel lines), so
+//! the lines never wander. The direction field is a tensor field (`anisotropy · e₁e₁ᵀ + ε ·
+//! d₀d₀ᵀ`) blurred over a line spacing: tensors average without the sign ambiguity of vectors.
+//!
+//! Every line point also gets its share of the paper across the lines (half the gaps to its
+//! neighbours on either side), from which the engraving sets the line's width for the tone.
+//! Everything is `f64` in domain units (photo pixels); the occupancy grid has cells of `d_sep`,
+//! so a distance query reads at most nine cells. Tracing is sequential and deterministic (tens
+//! of thousands of points at any output size, as the spacing is a share of the diagonal); the
+//! shares are measured in parallel.
+
+use crate::field::{Tensor, TensorField};
+use glam::DVec2;
+use rayon::prelude::*;
+use std::collections::VecDeque;
+
+/// One streamline: its points in domain units, in order, and at each point the width across
+/// the lines that belongs to it (domain units; `d_sep` where the lines are evenly spaced).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Streamline {
+    /// The points, [`STEP_RATIO`]` · d_sep` apart.
+    pub points: Vec<DVec2>,
+    /// At every point, half the gap to the neighbouring line on either side, added.
+    pub shares: Vec<f64>,
+}
+
+/// How the lines are laid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineLayout {
+    /// Separation of neighbouring lines, domain units.
+    pub d_sep: f64,
+    /// Direction (radians from +x) where the field has none.
+    pub flat_angle: f64,
+    /// A line stops where the tone changes by more than this (lightness, 0 to 1) over one line
+    /// spacing along it: a strong edge across its path. 1 or more: never.
+    pub edge_break: f32,
+}
+
+/// Closest approach of two lines as a share of `d_sep` (Jobard and Lefer's `d_test`).
+pub const TEST_RATIO: f64 = 0.5;
+/// Integration step as a share of `d_sep`.
+pub const STEP_RATIO: f64 = 0.25;
+/// A seed needs this share of `d_sep` free around it.
+const SEED_RATIO: f64 = 0.9;
+/// Weight of the flat direction against a fully anisotropic metric (`anisotropy = 1`).
+const FLAT_WEIGHT: f64 = 0.04;
+/// A step may turn the line by at most 40° (its cosine): beyond, the field has a singularity
+/// there and the line stops.
+const MAX_TURN_COS: f64 = 0.766;
+/// The gaps to the neighbouring lines are looked for up to this share of `d_sep` away; no line
+/// there counts as a gap of `d_sep` (a border, a break).
+const GAP_REACH: f64 = 1.5;
+
+/// A smooth line field: at every point the direction the lines run in.
+pub struct Directions {
+    nodes: TensorField,
+}
+
+impl Directions {
+    /// The line field of `metric` (its long axes), blurred over `sigma` domain units, with
+    /// `flat_angle` (radians) where the metric is round.
+    #[must_use]
+    pub fn new(metric: &TensorField, flat_angle: f64, sigma: f64) -> Self {
+        let flat = Tensor::outer(DVec2::new(flat_angle.cos(), flat_angle.sin()));
+        let (cols, rows) = (metric.cols(), metric.rows());
+        let mut data: Vec<f32> = Vec::with_capacity(3 * cols * rows);
+        for v in metric.data() {
+            let e = Tensor::from_f32(*v).eigen();
+            let t = Tensor::outer(e.e1());
+            let a = e.anisotropy();
+            data.extend_from_slice(&[
+                (a * t.xx + FLAT_WEIGHT * flat.xx) as f32,
+                (a * t.xy + FLAT_WEIGHT * flat.xy) as f32,
+                (a * t.yy + FLAT_WEIGHT * flat.yy) as f32,
+            ]);
+        }
+        let grid_sigma = (sigma / metric.spacing()) as f32;
+        crate::field::blur::gaussian_blur_parallel_mut(&mut data, cols, rows, 3, grid_sigma);
+        let mut nodes = metric.clone();
+        for (v, c) in nodes.data_mut().iter_mut().zip(data.chunks_exact(3)) {
+            *v = [c[0], c[1], c[2]];
+        }
+        Directions { nodes }
+    }
+
+    /// The unit direction of the lines at `p` (its sign is arbitrary).
+    #[must_use]
+    pub fn at(&self, p: DVec2) -> DVec2 {
+        let t = self.nodes.sample(p);
+        let angle = 0.5 * (2.0 * t.xy).atan2(t.xx - t.yy);
+        DVec2::new(angle.cos(), angle.sin())
+    }
+}
+
+/// Lays evenly spaced streamlines of `directions` over `domain`. `lightness` is the tone the
+/// edge breaks read; `seeds` are tried, in order, where the lines' own seeding leaves room.
+#[must_use]
+pub fn streamlines(
+    directions: &Directions,
+    lightness: &(dyn Fn(DVec2) -> f32 + Sync),
+    domain: DVec2,
+    layout: &LineLayout,
+    seeds: &[DVec2],
+) -> Vec<Streamline> {
+    let d_sep = layout.d_sep.max(1e-3);
+    let mut tracer = Tracer {
+        directions,
+        lightness,
+        domain,
+        layout: LineLayout { d_sep, ..*layout },
+        grid: Occupancy::new(domain, d_sep),
+        lines: Vec::new(),
+        queue: VecDeque::new(),
+    };
+    let centre = domain * 0.5;
+    tracer.try_seed(centre);
+    tracer.drain();
+    for &s in seeds {
+        tracer.try_seed(s);
+        tracer.drain();
+    }
+    let (nx, ny) = (
+        (domain.x / d_sep).ceil() as usize,
+        (domain.y / d_sep).ceil() as usize,
+    );
+    for j in 0..ny {
+        for i in 0..nx {
+            tracer.try_seed(DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * d_sep);
+            tracer.drain();
+        }
+    }
+    let Tracer { grid, lines, .. } = tracer;
+    lines
+        .into_par_iter()
+        .enumerate()
+        .map(|(id, points)| {
+            let shares = (0..points.len())
+                .map(|i| grid.share(&points, i, id as u32, d_sep))
+                .collect();
+            Streamline { points, shares }
+        })
+        .collect()
+}
+
+struct Tracer<'a> {
+    directions: &'a Directions,
+    lightness: &'a (dyn Fn(DVec2) -> f32 + Sync),
+    domain: DVec2,
+    layout: LineLayout,
+    grid: Occupancy,
+    lines: Vec<Vec<DVec2>>,
+    queue: VecDeque<DVec2>,
+}
+
+impl Tracer<'_> {
+    fn inside(&self, p: DVec2) -> bool {
+        p.x >= 0.0 && p.y >= 0.0 && p.x <= self.domain.x && p.y <= self.domain.y
+    }
+
+    /// Traces a line from `seed` if there is room for it, and queues seeds beside it.
+    fn try_seed(&mut self, seed: DVec2) {
+        let d_sep = self.layout.d_sep;
+        if !self.inside(seed) || !self.grid.clear(seed, SEED_RATIO * d_sep, u32::MAX, 0, 0) {
+            return;
+        }
+        let id = self.lines.len() as u32;
+        let d0 = self.directions.at(seed);
+        self.grid.insert(seed, id, 0);
+        let forward = self.walk(seed, d0, id, 1);
+        let backward = self.walk(seed, -d0, id, -1);
+        if forward.is_empty() && backward.is_empty() {
+            self.grid.remove_last();
+            return;
+        }
+        let mut points: Vec<DVec2> = backward.into_iter().rev().collect();
+        points.push(seed);
+        points.extend(forward);
+        for i in (0..points.len()).step_by(2) {
+            let t = (points[(i + 1).min(points.len() - 1)] - points[i.saturating_sub(1)])
+                .normalize_or_zero();
+            let n = t.perp();
+            self.queue.push_back(points[i] + n * d_sep);
+            self.queue.push_back(points[i] - n * d_sep);
+        }
+        self.lines.push(points);
+    }
+
+    fn drain(&mut self) {
+        while let Some(s) = self.queue.pop_front() {
+            self.try_seed(s);
+        }
+    }
+
+    /// Steps from `start` along `dir` (sign `sign` of the sequence numbers), inserting every
+    /// point into the grid, until a stopping rule holds.
+    fn walk(&mut self, start: DVec2, dir: DVec2, id: u32, sign: i32) -> Vec<DVec2> {
+        let d_sep = self.layout.d_sep;
+        let h = STEP_RATIO * d_sep;
+        let d_test = TEST_RATIO * d_sep;
+        // Nearby points of the line itself are not "another line" (its own last few steps).
+        let skip = (2.0 * TEST_RATIO / STEP_RATIO).ceil() as i32 + 1;
+        let max_steps = (4.0 * (self.domain.x + self.domain.y) / h) as i32 + 8;
+        let (mut p, mut dir) = (start, dir);
+        let mut out = Vec::new();
+        for k in 1..max_steps {
+            let a = aligned(self.directions.at(p), dir);
+            let b = aligned(self.directions.at(p + a * (0.5 * h)), a);
+            if b.dot(dir) < MAX_TURN_COS {
+                break;
+            }
+            let q = p + b * h;
+            if !self.inside(q) {
+                break;
+            }
+            let step = ((self.lightness)(q) - (self.lightness)(p)).abs() / STEP_RATIO as f32;
+            if step > self.layout.edge_break {
+                break;
+            }
+            let seq = sign * k;
+            if !self.grid.clear(q, d_test, id, seq, skip) {
+                break;
+            }
+            self.grid.insert(q, id, seq);
+            out.push(q);
+            (p, dir) = (q, b);
+        }
+        out
+    }
+}
+
+/// `v` or `−v`, whichever points along `reference`.
+fn aligned(v: DVec2, reference: DVec2) -> DVec2 {
+    if v.dot(reference) < 0.0 {
+        -v
+    } else {
+        v
+    }
+}
+
+/// Line points bucketed in square cells of `d_sep`.
+struct Occupancy {
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    cells: Vec<Vec<u32>>,
+    points: Vec<DVec2>,
+    /// Line and sequence number (signed: negative behind the seed) of every point.
+    tags: Vec<(u32, i32)>,
+}
+
+impl Occupancy {
+    fn new(domain: DVec2, cell: f64) -> Self {
+        let cols = (domain.x / cell).ceil().max(1.0) as usize;
+        let rows = (domain.y / cell).ceil().max(1.0) as usize;
+        Occupancy {
+            cell,
+            cols,
+            rows,
+            cells: vec![Vec::new(); cols * rows],
+            points: Vec::new(),
+            tags: Vec::new(),
+        }
+    }
+
+    fn cell_of(&self, p: DVec2) -> (usize, usize) {
+        (
+            ((p.x / self.cell).max(0.0) as usize).min(self.cols - 1),
+            ((p.y / self.cell).max(0.0) as usize).min(self.rows - 1),
+        )
+    }
+
+    fn insert(&mut self, p: DVec2, line: u32, seq: i32) {
+        let (c, r) = self.cell_of(p);
+        self.cells[r * self.cols + c].push(self.points.len() as u32);
+        self.points.push(p);
+        self.tags.push((line, seq));
+    }
+
+    fn remove_last(&mut self) {
+        if let Some(p) = self.points.pop() {
+            let (c, r) = self.cell_of(p);
+            self.cells[r * self.cols + c].pop();
+            self.tags.pop();
+        }
+    }
+
+    /// Calls `f` with every point within one cell ring of `p`.
+    fn near(&self, p: DVec2, reach: usize, mut f: impl FnMut(DVec2, (u32, i32))) {
+        let (c, r) = self.cell_of(p);
+        for row in r.saturating_sub(reach)..=(r + reach).min(self.rows - 1) {
+            for col in c.saturating_sub(reach)..=(c + reach).min(self.cols - 1) {
+                for &i in &self.cells[row * self.cols + col] {
+                    f(self.points[i as usize], self.tags[i as usize]);
+                }
+            }
+        }
+    }
+
+    /// No point within `radius` of `p`, other than points of line `line` at most `skip`
+    /// steps from sequence number `seq` (the line's own last steps).
+    fn clear(&self, p: DVec2, radius: f64, line: u32, seq: i32, skip: i32) -> bool {
+        let mut clear = true;
+        let r2 = radius * radius;
+        self.near(p, 1, |q, (l, s)| {
+            let own_recent = l == line && (s - seq).abs() <= skip;
+            if !own_recent && q.distance_squared(p) < r2 {
+                clear = false;
+            }
+        });
+        clear
+    }
+
+    /// Point `i` of line `line`'s share across the lines: half the gap to the nearest other
+    /// line on its left plus half that on its right.
+    fn share(&self, points: &[DVec2], i: usize, line: u32, d_sep: f64) -> f64 {
+        let p = points[i];
+        let t = (points[(i + 1).min(points.len() - 1)] - points[i.saturating_sub(1)])
+            .normalize_or_zero();
+        let n = t.perp();
+        let reach = GAP_REACH * d_sep;
+        let (mut left, mut right) = (d_sep, d_sep);
+        let (mut found_left, mut found_right) = (false, false);
+        let band = STEP_RATIO * d_sep;
+        self.near(p, 2, |q, (l, _)| {
+            if l == line {
+                return;
+            }
+            let v = q - p;
+            if v.dot(t).abs() > band {
+                return;
+            }
+            let across = v.dot(n);
+            if across > 0.0 && across < reach && (!found_left || across < left) {
+                left = across;
+                found_left = true;
+            } else if across <= 0.0 && -across < reach && (!found_right || -across < right) {
+                right = -across;
+                found_right = true;
+            }
+        });
+        0.5 * (left + right)
+    }
+}

@@ -1,0 +1,134 @@
+//! The engraving's lines on pictures whose answer is known. On a flat grey picture the field
+//! has no direction, so the lines take `look.flat_angle` (here 90°: vertical): they must be
+//! parallel, at the set spacing, unbroken from the top of the picture to the bottom, and of
+//! the width that gives the grey. On a ramp of lightness across the picture the lines follow
+//! the isophotes (vertical again), keep their spacing and grow wider towards the dark side.
+
+use anisopaint::input::photo_field;
+use anisopaint::paint::{paint_loaded, Extras, Recipe};
+use anisopaint::progress::Silent;
+use image::{DynamicImage, RgbImage};
+
+const W: u32 = 240;
+const H: u32 = 180;
+/// Line spacing as a share of the diagonal (300 px): 6 px.
+const SPACING: f64 = 0.02;
+
+fn engrave(photo: RgbImage) -> RgbImage {
+    let mut preset = anisopaint::style::load("engraving").unwrap();
+    anisopaint::style::apply_sets(
+        &mut preset,
+        &[
+            format!("look.line_spacing={SPACING}"),
+            "look.flat_angle=90".into(),
+            "look.outlines=0".into(),
+        ],
+    )
+    .unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
+    paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image
+}
+
+/// Ink (0 paper .. 1 ink, from the green channel between the preset's paper and ink) per pixel.
+fn ink(img: &RgbImage, x: u32, y: u32) -> f64 {
+    let (paper, ink) = (240.0, 28.0);
+    ((paper - f64::from(img.get_pixel(x, y).0[1])) / (paper - ink)).clamp(0.0, 1.0)
+}
+
+/// The centres of the lines crossing row `y`: ink-weighted centres of runs of inked pixels.
+fn line_centres(img: &RgbImage, y: u32) -> Vec<f64> {
+    let mut centres = Vec::new();
+    let (mut sum, mut weighted) = (0.0, 0.0);
+    for x in 0..W {
+        let v = ink(img, x, y);
+        if v > 0.05 {
+            sum += v;
+            weighted += v * (f64::from(x) + 0.5);
+        } else if sum > 0.0 {
+            centres.push(weighted / sum);
+            (sum, weighted) = (0.0, 0.0);
+        }
+    }
+    centres
+}
+
+/// Asserts vertical, parallel lines `d` px apart, unbroken down the whole picture; gives the
+/// ink of every line (summed across it) on the middle row.
+fn assert_parallel_unbroken(img: &RgbImage, what: &str) -> Vec<(f64, f64)> {
+    let d = SPACING * f64::from(W).hypot(f64::from(H));
+    let mid = line_centres(img, H / 2);
+    assert!(mid.len() >= 20, "{what}: {} lines", mid.len());
+    let inner = &mid[1..mid.len() - 1];
+    for w in inner.windows(2) {
+        let gap = w[1] - w[0];
+        assert!(
+            (gap - d).abs() < 0.12 * d,
+            "{what}: lines {:.1} and {:.1} are {gap:.2} px apart, not {d}",
+            w[0],
+            w[1]
+        );
+    }
+    // Every line runs from the top to the bottom at the same x (vertical, no break).
+    for y in 1..H - 1 {
+        let row = line_centres(img, y);
+        for &c in inner {
+            assert!(
+                row.iter().any(|&r| (r - c).abs() < 0.6),
+                "{what}: the line at x = {c:.1} is broken or bent at y = {y}"
+            );
+        }
+    }
+    inner
+        .iter()
+        .map(|&c| {
+            let x0 = (c - 0.5 * d).max(0.0) as u32;
+            let x1 = ((c + 0.5 * d) as u32).min(W - 1);
+            (c, (x0..=x1).map(|x| ink(img, x, H / 2)).sum())
+        })
+        .collect()
+}
+
+#[test]
+fn a_flat_grey_is_engraved_with_parallel_unbroken_lines_of_its_tone() {
+    let grey = 150u8;
+    let img = engrave(RgbImage::from_pixel(W, H, image::Rgb([grey; 3])));
+    let lines = assert_parallel_unbroken(&img, "flat grey");
+    // Every line carries the same ink.
+    let (lo, hi) = lines.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &(_, v)| {
+        (lo.min(v), hi.max(v))
+    });
+    assert!(hi - lo < 0.15 * hi, "uneven lines: {lo:.2} .. {hi:.2}");
+    // And the picture, seen from afar, has the grey's lightness (sRGB luma, ±0.05).
+    let mean: f64 = img
+        .pixels()
+        .map(|p| 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]))
+        .sum::<f64>()
+        / f64::from(W * H)
+        / 255.0;
+    let want = f64::from(grey) / 255.0;
+    assert!(
+        (mean - want).abs() < 0.05,
+        "reads {mean:.3}, the photo {want:.3}"
+    );
+}
+
+#[test]
+fn a_ramp_is_engraved_along_its_isophotes_wider_where_darker() {
+    let img = engrave(RgbImage::from_fn(W, H, |x, _| {
+        let v = (40.0 + 180.0 * f64::from(x) / f64::from(W)).round() as u8;
+        image::Rgb([v, v, v])
+    }));
+    let lines = assert_parallel_unbroken(&img, "ramp");
+    // Darker to the left: each line's ink at least its right neighbour's, and clearly more
+    // from one end to the other.
+    for w in lines.windows(2) {
+        assert!(
+            w[0].1 + 0.05 >= w[1].1,
+            "ink not falling with lightness: {lines:.2?}"
+        );
+    }
+    assert!(lines[0].1 > 2.0 * lines[lines.len() - 1].1, "{lines:.2?}");
+}
