@@ -24,16 +24,5 @@ for photo in "$PHOTOS"/*.png; do
     rows+=("$tmp/$name-$cells.png")
   done
 done
-"$PYTHON" - "$OUT" "${rows[@]}" <<'PY'
-import sys
-from PIL import Image
-out, rows = sys.argv[1], [Image.open(p).convert("RGB") for p in sys.argv[2:]]
-w = max(r.width for r in rows)
-sheet = Image.new("RGB", (w, sum(r.height for r in rows)), "white")
-y = 0
-for r in rows:
-    sheet.paste(r, (0, y))
-    y += r.height
-sheet.save(out, quality=80)
-PY
+"$PYTHON" benches/stack_rows.py "$OUT" "${rows[@]}"
 echo "wrote $OUT"

@@ -138,10 +138,12 @@ fn float64_general_tensor_is_mapped() {
         .success();
     let (shape, m) = read_npy_f32(&out);
     assert_eq!(shape, vec![4, 5, 3]);
-    // base size 0.02 of the diagonal √41, κ = 0.7: semi-axes s·e^{±0.7}, long along x.
+    // base size 0.02 of the diagonal √41, κ = 0.7, median magnitude 1: semi-axes
+    // s·e^{±0.7·tanh 1}, long along x.
     let s = 0.02 * 41f64.sqrt();
-    assert!((f64::from(m[0]) - s * 0.7f64.exp()).abs() < 1e-5);
-    assert!((f64::from(m[2]) - s * (-0.7f64).exp()).abs() < 1e-5);
+    let k = 0.7 * 1f64.tanh();
+    assert!((f64::from(m[0]) - s * k.exp()).abs() < 1e-5);
+    assert!((f64::from(m[2]) - s * (-k).exp()).abs() < 1e-5);
 }
 
 #[test]

@@ -346,28 +346,38 @@ impl Default for MappingParams {
 }
 
 /// The anti-symmetric mapping: eigenvectors kept, each eigenvalue λ mapped to the semi-axis
-/// `s·exp(κ·λ/max|λ|)`, so compression (λ < 0) shrinks and tension stretches, symmetrically
+/// `s·exp(κ·tanh(λ/q))`, so compression (λ < 0) shrinks and tension stretches, symmetrically
 /// about the base size. A zero field maps to circles of radius `s`.
+///
+/// `q` is the median over the field of the larger eigenvalue magnitude, not its maximum:
+/// fields with point loads or singularities (stress near a load grows as 1/r) have a maximum
+/// far above most of the field, and dividing by it left every ellipse but those at the loads
+/// round (the eigenvalue ratio lost to normalisation). With the median, half the field maps
+/// to its full anisotropy and the `tanh` keeps the peaks bounded (semi-axes within `s·e^{±κ}`).
 #[must_use]
 pub fn metric_from_general(field: &TensorField, params: &MappingParams) -> TensorField {
-    let max_abs = field
+    let magnitudes: Vec<f64> = field
         .data()
         .par_iter()
         .map(|&c| {
             let e = Tensor::from_f32(c).eigen();
             e.l1.abs().max(e.l2.abs())
         })
-        .reduce(|| 0.0, f64::max);
-    let s = params.base_size * field.diagonal();
-    let scale = if max_abs > 0.0 {
-        params.kappa / max_abs
-    } else {
+        .filter(|m| m.is_finite())
+        .collect();
+    let q = if magnitudes.is_empty() {
         0.0
+    } else {
+        quantile(&magnitudes, 0.5)
     };
+    let s = params.base_size * field.diagonal();
     let mut out = field.clone();
     out.data_mut().par_iter_mut().for_each(|c| {
         *c = Tensor::from_f32(*c)
-            .map_eigenvalues(|l| s * (scale * l).exp())
+            .map_eigenvalues(|l| {
+                let t = if q > 0.0 { (l / q).tanh() } else { 0.0 };
+                s * (params.kappa * t).exp()
+            })
             .to_f32();
     });
     out
@@ -410,9 +420,10 @@ mod tests {
         };
         let m = metric_from_general(&field, &p);
         let e = m.node(1, 1).eigen();
+        // Every node's larger magnitude is 2: q = 2.
         let s = 0.1 * 5.0;
-        assert!((e.l1 - s * (0.5f64).exp()).abs() < 1e-5);
-        assert!((e.l2 - s * (-1.0f64).exp()).abs() < 1e-5);
+        assert!((e.l1 - s * (0.5f64).tanh().exp()).abs() < 1e-5);
+        assert!((e.l2 - s * (-1.0f64).tanh().exp()).abs() < 1e-5);
         // The long axis is y, the direction of the larger (tensile) eigenvalue.
         assert!(e.e1().y.abs() > 0.999);
     }

@@ -19,7 +19,7 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
-use crate::render::outline::{draw_outlines, OutlineParams};
+use crate::render::outline::{draw_outlines, outline_mask, OutlineParams};
 use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
@@ -180,7 +180,7 @@ pub fn draw(
             };
             label_map(&sites.cells(), &raster)
         });
-        let (mut image, svg) = crate::render::draw(
+        let (mut image, mut svg) = crate::render::draw(
             &recipe.look,
             sites.cells(),
             &loaded.metric,
@@ -196,9 +196,31 @@ pub fn draw(
                 loaded.metric.domain(),
                 &recipe.outline,
             );
+            if let Some(svg) = &mut svg {
+                add_svg_outlines(svg, loaded, photo, size, &recipe.outline);
+            }
         }
         Ok(Painting { image, svg, labels })
     })
+}
+
+/// Adds the outlines' vector form over the look in `svg` (before its closing tag).
+fn add_svg_outlines(
+    svg: &mut String,
+    loaded: &LoadedField,
+    photo: &image::DynamicImage,
+    size: RenderSize,
+    params: &OutlineParams,
+) {
+    if params.strength <= 0.0 {
+        return;
+    }
+    let (w, h) = (size.width, size.height);
+    let mask = outline_mask(photo, &loaded.raw, loaded.metric.domain(), (w, h), params);
+    let shapes = crate::render::svg::outlines(&mask, w, h, params.ink, params.strength);
+    if let Some(end) = svg.rfind("</svg>") {
+        svg.insert_str(end, &shapes);
+    }
 }
 
 /// The cells `recipe` asks for. Fabric and LIC lay their threads from the samples as the

@@ -87,13 +87,28 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
             };
             let p = (DVec2::new(x as f64, y as f64) + 0.5) * to_domain;
             let base = base_colour(scene, photo.as_ref(), p);
-            let k = 1.0 - 0.5 * params.contrast + params.contrast * v;
-            let c = base.map(|c| (c * k).clamp(0.0, 1.0));
+            let c = if photo.is_some() {
+                let k = 1.0 - 0.5 * params.contrast + params.contrast * v;
+                base.map(|c| (c * k).clamp(0.0, 1.0))
+            } else {
+                // A field has no picture to keep: threads run from the colour darkened (the
+                // gaps between them) to the colour lightened (their crests), the paper's
+                // Figure 7 fabric of clearly visible fibres.
+                let s = FIELD_THREAD_SPAN * params.contrast;
+                base.map(|c| {
+                    let (dark, light) = (c * (1.0 - s), c + (1.0 - c) * s);
+                    dark + (light - dark) * v
+                })
+            };
             px.copy_from_slice(&c.map(super::colour::to_srgb));
         }
     });
     RgbImage::from_raw(w as u32, h as u32, out).expect("w·h RGB pixels")
 }
+
+/// How far the threads of a field (no photo) reach from its colour map towards black and
+/// white, at full contrast.
+const FIELD_THREAD_SPAN: f32 = 0.85;
 
 /// The colour under the threads: the photo's pixel, or the anisotropy colour map.
 fn base_colour(scene: &Scene, photo: Option<&image::RgbImage>, p: DVec2) -> Linear {
@@ -103,10 +118,7 @@ fn base_colour(scene: &Scene, photo: Option<&image::RgbImage>, p: DVec2) -> Line
             let y = (p.y as u32).min(img.height() - 1);
             linear_of(img.get_pixel(x, y).0)
         }
-        None => {
-            let k = anisotropy_colour(&scene.field.sample(p));
-            super::colour::mix([1.0; 3], k, 0.6)
-        }
+        None => anisotropy_colour(&scene.field.sample(p)),
     }
 }
 
@@ -180,12 +192,40 @@ impl Directions {
     }
 }
 
+/// The kernel's half-length in output pixels. A photo takes `kernel_px` as it is (longer
+/// kernels smear its detail). A field without a photo has no detail to keep but its
+/// directions: its kernel reaches at least the median long semi-axis of the samples, the
+/// distance between neighbouring dots along a thread, so the dots join into continuous fibres
+/// (paper Figure 7) instead of stitches.
+fn kernel_px(scene: &Scene, params: &FabricParams) -> f32 {
+    if scene.photo.is_some() {
+        return params.kernel_px;
+    }
+    let mut long: Vec<f64> = scene
+        .cells
+        .metrics()
+        .iter()
+        .map(|m| m.eigen().l1.abs())
+        .collect();
+    if long.is_empty() {
+        return params.kernel_px;
+    }
+    let mid = long.len() / 2;
+    let (_, median, _) = long.select_nth_unstable_by(mid, f64::total_cmp);
+    params
+        .kernel_px
+        .max((FIELD_KERNEL_AXES * *median * scene.pixels_per_unit) as f32)
+}
+
+/// A field's kernel half-length in long semi-axes (see [`kernel_px`]).
+const FIELD_KERNEL_AXES: f64 = 1.2;
+
 /// One LIC pass along `axis` over the noise of `params`, as bytes (0..255, mid-grey 128).
 fn lic(scene: &Scene, params: &FabricParams, axis: Axis, directions: &Directions) -> Vec<u8> {
     let r = scene.raster;
     let (w, h) = (r.width, r.height);
     let noise = noise_image(scene, params, axis);
-    let kernel = params.kernel_px.max(1.0).round() as usize;
+    let kernel = kernel_px(scene, params).max(1.0).round() as usize;
     // A streamline is traced this many kernel half-lengths each way from its seed.
     let reach = 2 * kernel;
     let margin = reach + 1;

@@ -162,6 +162,34 @@ pub fn draw_outlines(
         });
 }
 
+/// Where the outlines of [`draw_outlines`] ink at least half a `width × height` picture's
+/// pixel: 1 there, 0 elsewhere (row-major), for their vector form.
+#[must_use]
+pub fn outline_mask(
+    photo: &DynamicImage,
+    tensor: &TensorField,
+    domain: glam::DVec2,
+    (w, h): (usize, usize),
+    params: &OutlineParams,
+) -> Vec<i32> {
+    if params.strength <= 0.0 {
+        return vec![0; w * h];
+    }
+    let lines = line_map(photo, tensor, params);
+    let (cols, rows) = (tensor.cols(), tensor.rows());
+    let (sx, sy) = (domain.x / w as f64, domain.y / h as f64);
+    let spacing = tensor.spacing();
+    let mut mask = vec![0; w * h];
+    mask.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+        let gy = (((y as f64 + 0.5) * sy) / spacing - 0.5) as f32;
+        for (x, m) in row.iter_mut().enumerate() {
+            let gx = (((x as f64 + 0.5) * sx) / spacing - 0.5) as f32;
+            *m = i32::from(bilinear(&lines, cols, rows, gx, gy) >= 0.5);
+        }
+    });
+    mask
+}
+
 /// The photo's lightness (sRGB luma in [0, 1]) averaged over every node's block of pixels.
 fn lightness_grid(photo: &DynamicImage, tensor: &TensorField) -> Vec<f32> {
     let owned;

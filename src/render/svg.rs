@@ -5,7 +5,10 @@
 //! with the cell colour (the mean photo colour for the mosaic; the mosaic's leading is one
 //! stroked path of all borders). Hatch and cross-hatch become vector lines clipped to each
 //! cell, with the raster's directions, spacings and ink coverage (drawable by a pen plotter);
-//! the other textured looks become their cells' mean tone of ink on paper.
+//! stipple becomes the raster's dots as circles of its radii, clipped to each cell; the
+//! engraving its lines as filled outlines whose width follows the tone; the other textured
+//! looks become their cells' mean tone of ink on paper. The outlines over a photo's look are
+//! traced from where they ink at least half a pixel ([`outlines`]).
 //! Fabric and LIC are images of noise and have no vector form.
 //!
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
@@ -16,7 +19,10 @@ use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
-use super::texture::{cell_tones, smoothstep, spacing, Frame, TextureKind, TextureParams};
+use super::texture::{
+    cell_tones, dot_centre, smoothstep, spacing, stipple_radius, texture_frames, TextureKind,
+    TextureParams,
+};
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
@@ -53,6 +59,7 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
         Look::Texture(p) if matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch) => {
             hatched(&mut out, scene, p);
         }
+        Look::Texture(p) if p.kind == TextureKind::Stipple => stippled(&mut out, scene, p),
         Look::Texture(p) => {
             let colours = tone_colours(scene, p);
             let border = (p.border_width > 0.0).then(|| (p.ink.leading(), p.border_width));
@@ -184,12 +191,13 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
         hex(paper)
     );
     let tones = cell_tones(&scene.colours, p);
+    let frames = texture_frames(scene.cells.metrics(), p, r.domain.length());
     let (mut d, mut lines) = (String::new(), String::new());
     for (i, &(darkness, ink)) in tones.iter().enumerate() {
         if traced.rings[i].is_empty() || darkness <= 0.0 {
             continue;
         }
-        let frame = Frame::of(&scene.cells.metrics()[i]);
+        let frame = frames[i];
         let tint = darkness * (1.0 - smoothstep(p.fade_anisotropy, frame.anisotropy));
         // Lines over the tint so that tint + (1 − tint)·w = darkness.
         let w = ((darkness - tint) / (1.0 - tint).max(1e-6)).clamp(0.0, 1.0);
@@ -236,6 +244,94 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
     if p.border_width > 0.0 {
         traced.write_leading(out, p.ink.leading(), p.border_width);
     }
+}
+
+/// Writes stippled cells as vector dots: per cell, the raster's jittered lattice in the cell's
+/// frame, every dot a circle of the raster's radius for the cell's tone (so the dots ink the
+/// same share of paper), clipped to the traced cell, in the cell's ink.
+fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
+    let traced = Traced::new(scene);
+    let r = scene.raster;
+    let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let k = (sx * sy).sqrt();
+    let px = 1.0 / scene.pixels_per_unit;
+    let _ = writeln!(
+        out,
+        r#"<rect width="100%" height="100%" fill="{}"/>"#,
+        hex(linear_of(p.paper))
+    );
+    let tones = cell_tones(&scene.colours, p);
+    let frames = texture_frames(scene.cells.metrics(), p, r.domain.length());
+    let (mut d, mut dots) = (String::new(), String::new());
+    for (i, &(darkness, ink)) in tones.iter().enumerate() {
+        if traced.rings[i].is_empty() || darkness <= 0.0 {
+            continue;
+        }
+        let f = frames[i];
+        let s = spacing(f.b, p, px);
+        let radius = s * stipple_radius(darkness);
+        if radius * k < 0.05 {
+            continue;
+        }
+        let site = scene.cells.positions()[i];
+        let (sin, cos) = f.angle.sin_cos();
+        // The cell's extent in lattice periods of its own frame.
+        let (mut lo, mut hi) = (glam::DVec2::splat(f64::MAX), glam::DVec2::splat(f64::MIN));
+        for q in traced.rings[i].iter().flatten() {
+            let v = glam::DVec2::new(f64::from(q[0]) / sx, f64::from(q[1]) / sy) - site;
+            let local = glam::DVec2::new(cos * v.x + sin * v.y, -sin * v.x + cos * v.y) / s;
+            (lo, hi) = (lo.min(local), hi.max(local));
+        }
+        dots.clear();
+        for cy in (lo.y.floor() as i64 - 1)..=(hi.y.ceil() as i64) {
+            for cx in (lo.x.floor() as i64 - 1)..=(hi.x.ceil() as i64) {
+                let c = dot_centre(i as u32, glam::DVec2::new(cx as f64, cy as f64)) * s;
+                let q = site + glam::DVec2::new(cos * c.x - sin * c.y, sin * c.x + cos * c.y);
+                let _ = write!(
+                    dots,
+                    r#"<circle cx="{}" cy="{}" r="{}"/>"#,
+                    num((q.x * sx) as f32),
+                    num((q.y * sy) as f32),
+                    num((radius * k) as f32)
+                );
+            }
+        }
+        traced.cell_path(i, &mut d);
+        let _ = writeln!(
+            out,
+            r#"<clipPath id="c{i}"><path d="{d}"/></clipPath><g clip-path="url(#c{i})" fill="{}">{dots}</g>"#,
+            hex(ink)
+        );
+    }
+    if p.border_width > 0.0 {
+        traced.write_leading(out, p.ink.leading(), p.border_width);
+    }
+}
+
+/// The outlines as vector shapes, to go over a look's SVG: `mask` (output pixels, row-major,
+/// 1 where the outlines' ink is at least half) traced and simplified like the cells, filled
+/// with `ink` at `opacity` (their strength).
+#[must_use]
+pub fn outlines(mask: &[i32], width: usize, height: usize, ink: [u8; 3], opacity: f32) -> String {
+    let borders = Borders::trace(mask, width, height);
+    let simplified: Vec<Vec<[f32; 2]>> = borders
+        .chains
+        .iter()
+        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
+        .collect();
+    let rings = rings(&borders, &simplified, 2);
+    let mut d = String::new();
+    for ring in &rings[1] {
+        path_data(&mut d, ring, true);
+    }
+    if d.is_empty() {
+        return String::new();
+    }
+    format!(
+        "<path fill=\"{}\" fill-opacity=\"{}\" fill-rule=\"evenodd\" d=\"{d}\"/>\n",
+        hex(linear_of(ink)),
+        opacity.clamp(0.0, 1.0)
+    )
 }
 
 /// Appends the lines `n·q = k·spacing` (n the normal of direction `angle`, q in domain units)

@@ -90,6 +90,11 @@ pub struct TextureParams {
     pub fade_anisotropy: f32,
     /// Width of cell borders in output pixels (0: none).
     pub border_width: f32,
+    /// Hatch and cross-hatch: the direction (degrees from the x axis, y down) of the lines in
+    /// cells rounder than `fade_anisotropy`, which then keep full contrast instead of fading:
+    /// flat areas get even hatching that runs on from cell to cell. `None`: they fade (the
+    /// paper's Figure 6).
+    pub flat_angle: Option<f32>,
 }
 
 impl TextureParams {
@@ -105,6 +110,7 @@ impl TextureParams {
             gamma: 1.0,
             fade_anisotropy: 0.25,
             border_width: 0.0,
+            flat_angle: None,
         };
         match kind {
             TextureKind::Stroke => TextureParams {
@@ -158,6 +164,42 @@ impl Frame {
     }
 }
 
+/// Every cell's frame for texturing. With [`TextureParams::flat_angle`], hatch and cross-hatch
+/// cells rounder than `fade_anisotropy` are turned to that angle and counted as fully
+/// anisotropic (no fade). Their short axes go on a ladder of octaves, so that neighbours of
+/// about one size share a spacing and their lines continue into each other, and no larger
+/// than lines [`FLAT_SPACING`] of the diagonal `diagonal` apart need (a flat area is hatched
+/// finely and evenly, not in the coarse lines of its large cells).
+pub(super) fn texture_frames(
+    metrics: &[crate::field::Tensor],
+    p: &TextureParams,
+    diagonal: f64,
+) -> Vec<Frame> {
+    let mut frames: Vec<Frame> = metrics.iter().map(Frame::of).collect();
+    let hatched = matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch);
+    let Some(angle) = p.flat_angle.filter(|_| hatched) else {
+        return frames;
+    };
+    let flat = |f: &Frame| f.anisotropy < p.fade_anisotropy;
+    let angle = f64::from(angle).to_radians();
+    for f in frames.iter_mut().filter(|f| flat(f)) {
+        let largest = FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0;
+        let b = 2f64.powf(f.b.min(largest).max(1e-9).log2().round());
+        *f = Frame {
+            angle,
+            cos: angle.cos(),
+            sin: angle.sin(),
+            a: f.a.max(b),
+            b,
+            anisotropy: 1.0,
+        };
+    }
+    frames
+}
+
+/// The widest spacing of flat hatching, as a share of the picture's diagonal.
+pub const FLAT_SPACING: f64 = 0.006;
+
 /// Every cell's ink coverage and ink colour. The tone curve sets the lightness the cell should
 /// read as, `1 − (1 − L)^gamma` of its own lightness `L`; the coverage is the share of ink
 /// that gives that lightness between the paper's and the ink's,
@@ -197,7 +239,7 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
 /// Renders `scene` with textured cells.
 #[must_use]
 pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
-    let frames: Vec<Frame> = scene.cells.metrics().iter().map(Frame::of).collect();
+    let frames = texture_frames(scene.cells.metrics(), params, scene.raster.domain.length());
     // Per cell, once: tone and ink (a power per raster point would cost more than the texture).
     let tones = cell_tones(&scene.colours, params);
     let paper = linear_of(params.paper);
@@ -406,7 +448,7 @@ fn coverage(
 
 /// Centre of the stipple dot of lattice cell `c` (in lattice periods) in `site`'s cell: the
 /// cell's middle, jittered by up to ±0.3 periods.
-fn dot_centre(site: u32, c: DVec2) -> DVec2 {
+pub(super) fn dot_centre(site: u32, c: DVec2) -> DVec2 {
     let key = site.wrapping_mul(7919)
         ^ ((c.x as i32 as u32).wrapping_mul(73_856_093))
         ^ ((c.y as i32 as u32).wrapping_mul(19_349_663));
@@ -424,7 +466,7 @@ const DOT_MAX_RADIUS: f64 = 1.2;
 /// jittered lattice overlap and leave gaps, so `√(cover/π)` falls short of dark tones (no
 /// radius under half a period can cover more than π/4); the share each radius really inks is
 /// measured once on the lattice itself (its own jitter, its ±1 neighbourhood) and inverted.
-fn stipple_radius(cover: f32) -> f64 {
+pub(super) fn stipple_radius(cover: f32) -> f64 {
     static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
     let inked = TABLE.get_or_init(|| {
         // 24 × 24 lattice cells, 6 × 6 points each.

@@ -252,6 +252,9 @@ impl Preset {
             (0.0, 100.0),
         )?;
         p.border_width = self.border_width(p.border_width)?;
+        if let Some(a) = l.flat_angle {
+            p.flat_angle = Some(ranged("look.flat_angle", Some(a), a, (-360.0, 360.0))?);
+        }
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
         }

@@ -59,6 +59,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.gamma = Some(p.gamma);
             look.fade_anisotropy = Some(p.fade_anisotropy);
             look.border_width = Some(p.border_width);
+            look.flat_angle = p.flat_angle;
             look.paper = Some(hex(p.paper));
             let (ink, darken) = match p.ink {
                 Ink::Fixed(c) if c == BLACK_INK => ("black".to_string(), None),
