@@ -479,7 +479,10 @@ pub(super) fn dot_centre(site: u32, c: DVec2) -> DVec2 {
 
 /// Where in its lattice cell (in periods) a stipple dot's centre can lie: [`dot_centre`]'s
 /// middle with its jitter.
-const DOT_BOX: (DVec2, DVec2) = (DVec2::new(0.2 - 1e-9, 0.2 - 1e-9), DVec2::new(0.8 + 1e-9, 0.8 + 1e-9));
+const DOT_BOX: (DVec2, DVec2) = (
+    DVec2::new(0.2 - 1e-9, 0.2 - 1e-9),
+    DVec2::new(0.8 + 1e-9, 0.8 + 1e-9),
+);
 
 /// Steps of the stipple radius table, and the largest radius it holds (lattice periods).
 const DOT_STEPS: usize = 64;
