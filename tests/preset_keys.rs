@@ -10,7 +10,7 @@ use anisopaint::progress::Silent;
 use anisopaint::style;
 
 /// Every numeric key, with whether it takes an integer.
-const KEYS: [(&str, bool); 38] = [
+const KEYS: [(&str, bool); 39] = [
     ("metric.min_size", false),
     ("metric.max_size", false),
     ("metric.max_anisotropy", false),
@@ -43,6 +43,7 @@ const KEYS: [(&str, bool); 38] = [
     ("look.flat_angle", false),
     ("look.tone", false),
     ("look.ground", false),
+    ("look.refine", false),
     ("look.outlines", false),
     ("look.outline_scale", false),
     // Enumerated keys take numbers too when a user gets them wrong.

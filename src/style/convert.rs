@@ -219,6 +219,17 @@ impl Preset {
         )
     }
 
+    /// `look.min_spacing_px` (hatch lines, stipple rows, engraving lines), or `default`.
+    fn min_spacing_px(&self, default: f32) -> Result<f32> {
+        let l = &self.file.look;
+        ranged("look.min_spacing_px", l.min_spacing_px, default, (0.5, 200.0))
+    }
+
+    /// `look.gamma`, the ink looks' tone curve, or `default`.
+    fn gamma(&self, default: f32) -> Result<f32> {
+        ranged("look.gamma", self.file.look.gamma, default, (0.05, 20.0))
+    }
+
     fn mosaic(&self, p: &mut MosaicParams) -> Result<()> {
         let l = &self.file.look;
         p.border_width = self.border_width(p.border_width)?;
@@ -238,13 +249,8 @@ impl Preset {
             p.lines_per_cell,
             (0.1, 100.0),
         )?;
-        p.min_spacing_px = ranged(
-            "look.min_spacing_px",
-            l.min_spacing_px,
-            p.min_spacing_px,
-            (0.5, 200.0),
-        )?;
-        p.gamma = ranged("look.gamma", l.gamma, p.gamma, (0.05, 20.0))?;
+        p.min_spacing_px = self.min_spacing_px(p.min_spacing_px)?;
+        p.gamma = self.gamma(p.gamma)?;
         p.fade_anisotropy = ranged(
             "look.fade_anisotropy",
             l.fade_anisotropy,
@@ -340,6 +346,7 @@ impl Preset {
         }
         p.underpaint = l.underpaint.unwrap_or(p.underpaint);
         p.ground = ranged("look.ground", l.ground, p.ground, UNIT)?;
+        p.refine = ranged("look.refine", l.refine, p.refine, UNIT)?;
         p.seed = self.sampler()?.seed;
         Ok(())
     }
@@ -352,13 +359,8 @@ impl Preset {
             p.line_spacing,
             (0.0005, 0.2),
         )?;
-        p.min_spacing_px = ranged(
-            "look.min_spacing_px",
-            l.min_spacing_px,
-            p.min_spacing_px,
-            (0.5, 200.0),
-        )?;
-        p.gamma = ranged("look.gamma", l.gamma, p.gamma, (0.05, 20.0))?;
+        p.min_spacing_px = self.min_spacing_px(p.min_spacing_px)?;
+        p.gamma = self.gamma(p.gamma)?;
         p.edge_break = ranged("look.edge_break", l.edge_break, p.edge_break, (0.0, 10.0))?;
         p.flat_angle = ranged(
             "look.flat_angle",

@@ -114,6 +114,8 @@ pub struct LookSection {
     pub underpaint: Option<bool>,
     /// Glyphs: how much of its cell's colour the ground under a glyph takes (0 to 1).
     pub ground: Option<f32>,
+    /// Brush strokes: the canvas-to-photo difference above which a finer stroke is laid.
+    pub refine: Option<f32>,
     pub glyph_scale: Option<f32>,
     pub outline_width: Option<f32>,
     pub background: Option<String>,
@@ -304,6 +306,7 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             shape: o.shape.or(b.shape),
             underpaint: o.underpaint.or(b.underpaint),
             ground: o.ground.or(b.ground),
+            refine: o.refine.or(b.refine),
             placement: o.placement.or(b.placement),
             glyph_scale: o.glyph_scale.or(b.glyph_scale),
             outline_width: o.outline_width.or(b.outline_width),
