@@ -222,7 +222,12 @@ impl Preset {
     /// `look.min_spacing_px` (hatch lines, stipple rows, engraving lines), or `default`.
     fn min_spacing_px(&self, default: f32) -> Result<f32> {
         let l = &self.file.look;
-        ranged("look.min_spacing_px", l.min_spacing_px, default, (0.5, 200.0))
+        ranged(
+            "look.min_spacing_px",
+            l.min_spacing_px,
+            default,
+            (0.5, 200.0),
+        )
     }
 
     /// `look.gamma`, the ink looks' tone curve, or `default`.
