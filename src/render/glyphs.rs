@@ -4,6 +4,7 @@
 //! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
 
 use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
+use super::raster::Raster;
 use super::scene::Scene;
 use crate::field::Tensor;
 use crate::sampling::rng::Rng;
@@ -114,9 +115,22 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
         }
         underpainting = Some(cells);
     } else if params.ground > 0.0 && tone_kept(scene, params) {
-        let wash = scene.shade(|_, o| ground_colour(params, scene.colours[o.site as usize]));
-        for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(wash.pixels()) {
-            let [cr, cg, cb] = rgb.0;
+        // One owner per pixel, not supersampled: the wash shows only between the glyphs.
+        let owners = super::raster::owner_map(
+            &scene.cells,
+            &Raster {
+                supersample: 1,
+                ..r
+            },
+        );
+        let washes: Vec<[u8; 3]> = scene
+            .colours
+            .iter()
+            .map(|&c| ground_colour(params, c).map(to_srgb))
+            .collect();
+        let bg = params.background;
+        for (px, &site) in pixmap.pixels_mut().iter_mut().zip(&owners) {
+            let [cr, cg, cb] = washes.get(site as usize).copied().unwrap_or(bg);
             *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
         }
     } else {
