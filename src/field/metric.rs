@@ -16,7 +16,8 @@
 //!
 //! General symmetric tensors (stress, with negative eigenvalues) become a metric by the
 //! anti-symmetric mapping of \[HFH*04\]: eigenvectors kept, each eigenvalue λ mapped to the
-//! semi-axis `s·exp(κ·λ/max|λ|)`.
+//! semi-axis `s·exp(κ·tanh(λ/q))`, `q` the field's median eigenvalue magnitude (see
+//! [`metric_from_general`]).
 
 use super::blur::{gaussian_blur_parallel, gaussian_blur_parallel_mut};
 use super::grid::TensorField;

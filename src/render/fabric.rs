@@ -3,7 +3,9 @@
 //! smears the dots into threads, and the two are blended into a weave. Thread thickness follows
 //! the ellipse: threads along the long axis are as thick as a fraction of the short semi-axis
 //! and the other way round (for photos: thin threads along edges, thicker across). With white
-//! noise and one direction it is the classic tensor LIC, for comparison.
+//! noise and one direction it is the classic tensor LIC, for comparison. Without a photo the
+//! threads span the colour map from dark to light and the kernel reaches at least the
+//! samples' long axes, so the fibres of a tensor field read clearly (paper Figure 7).
 //!
 //! The LIC is the fast kind (Stalling and Hege): a long streamline is traced once from every
 //! pixel that no earlier streamline has crossed, and a box filter slides along it, giving

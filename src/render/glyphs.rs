@@ -2,6 +2,11 @@
 //! axes the metric's, drawn anti-aliased with tiny-skia. Placing them at the relaxed samples
 //! packs them densely without overlaps; a regular grid or random positions, with the same
 //! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
+//!
+//! Over a photo, glyphs may stand on a wash of their cell's colour (`ground`), their own
+//! colours solved so that glyph and wash average to the cell's (`placed`); brush strokes are
+//! laid coarse to fine after Hertzmann (1998), finer strokes only where the canvas still
+//! differs from the photo (`Refinement`).
 
 use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
 use super::raster::Raster;
@@ -74,11 +79,11 @@ pub struct GlyphParams {
     pub underpaint: bool,
     /// Without underpainting, how much of its cell's colour the ground under a glyph takes
     /// (0: the plain background; 1: the cell's colour). Over a photo, glyph colours are then
-    /// solved so that glyph and ground average to the cell's colour ([`placed`]).
+    /// solved so that glyph and ground average to the cell's colour (`placed`).
     pub ground: f32,
     /// Brush strokes over a photo: a stroke finer than the broadest third is laid only where
     /// the canvas still differs from the photo by more than this (mean sRGB distance, 0 to 1;
-    /// 0 lays every stroke). See [`Refinement`].
+    /// 0 lays every stroke). See `Refinement`.
     pub refine: f32,
 }
 

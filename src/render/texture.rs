@@ -7,7 +7,9 @@
 //! Textures give ink coverage; tone mapping makes darker cells denser (thicker hatch lines,
 //! more cross-hatch layers, bigger stipples; image textures are thresholded like a halftone
 //! screen), and the texture's contrast fades where the metric is isotropic and no direction
-//! is defined (paper Figure 6), keeping the mean tone. The coverage is solved so that paper
+//! is defined (paper Figure 6), keeping the mean tone, unless the preset names a
+//! `flat_angle`: then such cells are hatched at that angle, their lines running on from cell to
+//! cell (`texture_frames`). The coverage is solved so that paper
 //! and ink average to the cell's lightness ([`cell_tones`]), and paper and ink are mixed in the
 //! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
