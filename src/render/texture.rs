@@ -300,7 +300,8 @@ fn mix_encoded(a: Linear, b: Linear, t: f32) -> Linear {
     let enc = |v: f32| f32::from(super::colour::to_srgb(v));
     std::array::from_fn(|k| {
         let e = enc(a[k]) + (enc(b[k]) - enc(a[k])) * t;
-        super::colour::to_linear(e.round().clamp(0.0, 255.0) as u8)
+        // Round half up of a value in [0, 255] (no libm call; the same as `round` there).
+        super::colour::to_linear((e.clamp(0.0, 255.0) + 0.5) as u8)
     })
 }
 
@@ -440,8 +441,14 @@ fn coverage(
             // is not hashed, and a fully inked point looks no further (same result, faster).
             let reach = r + 0.5 * px;
             let q = local / s;
-            for dy in -1..=1 {
-                for dx in -1..=1 {
+            // Along each axis, the neighbours at −1 and +1 lie at least 0.2 + f and 1.2 − f
+            // periods away (f the point's place in its lattice cell): out of reach, their row
+            // or column is skipped whole.
+            let (f0, k) = (q - cell, reach / s);
+            let span =
+                |f: f64| (if 0.2 + f < k { -1 } else { 0 })..=(if 1.2 - f < k { 1 } else { 0 });
+            for dy in span(f0.y) {
+                for dx in span(f0.x) {
                     let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
                     let nearest = q.clamp(c + DOT_BOX.0, c + DOT_BOX.1);
                     if (q - nearest).length() * s >= reach {
