@@ -7,9 +7,10 @@
 //! ink coverage that gives the photo's lightness there, `(paper − target) / (paper − ink)` with
 //! the tone curve `target = 1 − (1 − L)^gamma`, so the picture seen from afar has the photo's
 //! tones: light areas paper-white, dark ones nearly solid. The tone is the photo's lightness
-//! blurred over half a line spacing (finer than the cells), or `tone` for a field without a
-//! photo. Lines are drawn with an exact one-dimensional box filter across them (a hairline
-//! keeps its share of ink), joined round, the inks of overlapping lines taking the maximum, and
+//! blurred over a fifth of a line spacing (finer than the cells), or `tone` for a field without
+//! a photo. Lines are drawn with an exact one-dimensional box filter across them (a hairline
+//! keeps its share of ink), joined round; a line's own segments take the maximum where they
+//! overlap, neighbouring lines add up (together they ink the pixels they share), and ink is
 //! mixed with the paper in the sRGB encoding, as the hatch looks are ([`super::texture`]).
 //! Coverage is `f32`, geometry `f64` in domain units until it is scaled to output pixels.
 
@@ -85,7 +86,7 @@ impl Tone {
         let photo = scene.photo?;
         let domain = scene.raster.domain;
         let photo_per_unit = f64::from(photo.width()) / domain.x.max(1e-9);
-        // Nodes about a third of a spacing apart: the blur of half a spacing is resolved.
+        // Nodes about a third of a spacing apart (the blur is then a little under a node).
         let factor = ((d_sep * photo_per_unit / 3.0).floor() as usize).max(1);
         let image = linear_analysis_image(photo, factor);
         let mut values: Vec<f32> = image
