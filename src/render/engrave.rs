@@ -48,7 +48,7 @@ pub struct EngravingParams {
 impl Default for EngravingParams {
     fn default() -> Self {
         EngravingParams {
-            line_spacing: 0.004,
+            line_spacing: 0.0035,
             min_spacing_px: 2.0,
             ink: BLACK_INK,
             paper: [247, 243, 232],
