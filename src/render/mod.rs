@@ -23,6 +23,7 @@ pub mod preview;
 pub mod raster;
 pub mod scene;
 pub mod sheet;
+pub mod stipple;
 pub mod streamlines;
 pub mod svg;
 pub mod texture;

@@ -19,10 +19,8 @@ use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
-use super::texture::{
-    cell_tones, dot_centre, smoothstep, spacing, stipple_radius, texture_frames, TextureKind,
-    TextureParams,
-};
+use super::stipple::{dot_centre, stipple_radius};
+use super::texture::{cell_tones, smoothstep, spacing, texture_frames, TextureKind, TextureParams};
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};

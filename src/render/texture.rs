@@ -17,6 +17,7 @@
 use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
 use super::mosaic::border_coverage;
 use super::scene::Scene;
+use super::stipple::stipple_radius;
 use glam::DVec2;
 use image::{GrayImage, RgbImage};
 
@@ -431,38 +432,7 @@ fn coverage(
             ((half - local.y.abs()) / px + 0.5).clamp(0.0, 1.0) as f32
         }
         TextureKind::Stipple => {
-            let s = spacing(f.b, p, px);
-            let cell = (local / s).floor();
-            let r = s * dot_radius;
-            let mut best: f32 = 0.0;
-            // The dot of this lattice cell and of its neighbours (jitter can reach across). A
-            // dot's centre lies in its lattice cell's middle [0.2, 0.8] (jitter ±0.3 periods):
-            // a neighbour whose whole box is farther than the dot's reach inks nothing here and
-            // is not hashed, and a fully inked point looks no further (same result, faster).
-            let reach = r + 0.5 * px;
-            let q = local / s;
-            // Along each axis, the neighbours at −1 and +1 lie at least 0.2 + f and 1.2 − f
-            // periods away (f the point's place in its lattice cell): out of reach, their row
-            // or column is skipped whole.
-            let (f0, k) = (q - cell, reach / s);
-            let span =
-                |f: f64| (if 0.2 + f < k { -1 } else { 0 })..=(if 1.2 - f < k { 1 } else { 0 });
-            for dy in span(f0.y) {
-                for dx in span(f0.x) {
-                    let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
-                    let nearest = q.clamp(c + DOT_BOX.0, c + DOT_BOX.1);
-                    if (q - nearest).length() * s >= reach {
-                        continue;
-                    }
-                    let centre = dot_centre(site, c) * s;
-                    let cover = ((r - (local - centre).length()) / px + 0.5).clamp(0.0, 1.0);
-                    best = best.max(cover as f32);
-                    if best >= 1.0 {
-                        return best;
-                    }
-                }
-            }
-            best
+            super::stipple::dot_coverage(local, site, spacing(f.b, p, px), dot_radius, px)
         }
         TextureKind::Image(img) => {
             let u = (local.x / f.a + 1.0) * 0.5;
@@ -471,80 +441,6 @@ fn coverage(
             ((value - (1.0 - darkness)) / 0.15 + 0.5).clamp(0.0, 1.0)
         }
         TextureKind::Stroke => darkness,
-    }
-}
-
-/// Centre of the stipple dot of lattice cell `c` (in lattice periods) in `site`'s cell: the
-/// cell's middle, jittered by up to ±0.3 periods.
-pub(super) fn dot_centre(site: u32, c: DVec2) -> DVec2 {
-    let key = site.wrapping_mul(7919)
-        ^ ((c.x as i32 as u32).wrapping_mul(73_856_093))
-        ^ ((c.y as i32 as u32).wrapping_mul(19_349_663));
-    c + DVec2::new(
-        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_X)) - 0.5),
-        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_Y)) - 0.5),
-    )
-}
-
-/// Where in its lattice cell (in periods) a stipple dot's centre can lie: [`dot_centre`]'s
-/// middle with its jitter.
-const DOT_BOX: (DVec2, DVec2) = (
-    DVec2::new(0.2 - 1e-9, 0.2 - 1e-9),
-    DVec2::new(0.8 + 1e-9, 0.8 + 1e-9),
-);
-
-/// Steps of the stipple radius table, and the largest radius it holds (lattice periods).
-const DOT_STEPS: usize = 64;
-const DOT_MAX_RADIUS: f64 = 1.2;
-
-/// The dot radius, in lattice periods, that inks a share `cover` of the paper. Dots on a
-/// jittered lattice overlap and leave gaps, so `√(cover/π)` falls short of dark tones (no
-/// radius under half a period can cover more than π/4); the share each radius really inks is
-/// measured once on the lattice itself (its own jitter, its ±1 neighbourhood) and inverted.
-pub(super) fn stipple_radius(cover: f32) -> f64 {
-    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
-    let inked = TABLE.get_or_init(|| {
-        // 24 × 24 lattice cells, 6 × 6 points each.
-        let (cells, points) = (24usize, 6usize);
-        (0..=DOT_STEPS)
-            .map(|k| {
-                let r = DOT_MAX_RADIUS * k as f64 / DOT_STEPS as f64;
-                let mut hits = 0usize;
-                for cy in 0..cells {
-                    for cx in 0..cells {
-                        for j in 0..points {
-                            for i in 0..points {
-                                let q = DVec2::new(
-                                    cx as f64 + (i as f64 + 0.5) / points as f64,
-                                    cy as f64 + (j as f64 + 0.5) / points as f64,
-                                );
-                                let cell = q.floor();
-                                let near = (-1..=1).any(|dy| {
-                                    (-1..=1).any(|dx| {
-                                        let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
-                                        (q - dot_centre(0, c)).length() < r
-                                    })
-                                });
-                                hits += usize::from(near);
-                            }
-                        }
-                    }
-                }
-                hits as f64 / (cells * cells * points * points) as f64
-            })
-            .collect()
-    });
-    let c = f64::from(cover.clamp(0.0, 1.0));
-    // The table grows with the radius: the first radius that inks at least `c`, by bisection
-    // (this runs at every raster point of a stippled cell).
-    match inked.partition_point(|&v| v < c) {
-        0 => 0.0,
-        k if k > DOT_STEPS => DOT_MAX_RADIUS,
-        k => {
-            let (lo, hi) = (inked[k - 1], inked[k]);
-            let t = if hi > lo { (c - lo) / (hi - lo) } else { 1.0 };
-            DOT_MAX_RADIUS * ((k - 1) as f64 + t) / DOT_STEPS as f64
-        }
     }
 }
 

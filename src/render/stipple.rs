@@ -1,0 +1,119 @@
+//! The stipple lattice of the stipple and pointillist looks (paper section 6's textured cells):
+//! in a cell's frame, one dot per lattice cell of one period, its centre jittered by up to
+//! ±0.3 periods (`dot_centre`), all of one radius for the cell's tone (`stipple_radius`,
+//! measured on the lattice itself so the dots ink the share of paper the tone asks for). The
+//! raster ([`super::texture`]) and the SVG ([`super::svg`]) place the same dots. `f64` in
+//! domain units; coverage `f32`.
+
+use super::colour::{salt, site_hash};
+use glam::DVec2;
+
+/// Ink coverage (0 to 1) at `local` (domain units in the cell's frame) of the dots of cell
+/// `site`, on a lattice of period `s`, of radius `radius` periods, anti-aliased over a pixel of
+/// `px` domain units.
+pub(super) fn dot_coverage(local: DVec2, site: u32, s: f64, radius: f64, px: f64) -> f32 {
+    let cell = (local / s).floor();
+    let r = s * radius;
+    let mut best: f32 = 0.0;
+    // The dot of this lattice cell and of its neighbours (jitter can reach across). A
+    // dot's centre lies in its lattice cell's middle [0.2, 0.8] (jitter ±0.3 periods):
+    // a neighbour whose whole box is farther than the dot's reach inks nothing here and
+    // is not hashed, and a fully inked point looks no further (same result, faster).
+    let reach = r + 0.5 * px;
+    let q = local / s;
+    // Along each axis, the neighbours at −1 and +1 lie at least 0.2 + f and 1.2 − f
+    // periods away (f the point's place in its lattice cell): out of reach, their row
+    // or column is skipped whole.
+    let (f0, k) = (q - cell, reach / s);
+    let span = |f: f64| (if 0.2 + f < k { -1 } else { 0 })..=(if 1.2 - f < k { 1 } else { 0 });
+    for dy in span(f0.y) {
+        for dx in span(f0.x) {
+            let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
+            let nearest = q.clamp(c + DOT_BOX.0, c + DOT_BOX.1);
+            if (q - nearest).length() * s >= reach {
+                continue;
+            }
+            let centre = dot_centre(site, c) * s;
+            let cover = ((r - (local - centre).length()) / px + 0.5).clamp(0.0, 1.0);
+            best = best.max(cover as f32);
+            if best >= 1.0 {
+                return best;
+            }
+        }
+    }
+    best
+}
+
+/// Centre of the stipple dot of lattice cell `c` (in lattice periods) in `site`'s cell: the
+/// cell's middle, jittered by up to ±0.3 periods.
+pub(super) fn dot_centre(site: u32, c: DVec2) -> DVec2 {
+    let key = site.wrapping_mul(7919)
+        ^ ((c.x as i32 as u32).wrapping_mul(73_856_093))
+        ^ ((c.y as i32 as u32).wrapping_mul(19_349_663));
+    c + DVec2::new(
+        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_X)) - 0.5),
+        0.5 + 0.6 * (f64::from(site_hash(key, salt::STIPPLE_Y)) - 0.5),
+    )
+}
+
+/// Where in its lattice cell (in periods) a stipple dot's centre can lie: [`dot_centre`]'s
+/// middle with its jitter.
+const DOT_BOX: (DVec2, DVec2) = (
+    DVec2::new(0.2 - 1e-9, 0.2 - 1e-9),
+    DVec2::new(0.8 + 1e-9, 0.8 + 1e-9),
+);
+
+/// Steps of the stipple radius table, and the largest radius it holds (lattice periods).
+const DOT_STEPS: usize = 64;
+const DOT_MAX_RADIUS: f64 = 1.2;
+
+/// The dot radius, in lattice periods, that inks a share `cover` of the paper. Dots on a
+/// jittered lattice overlap and leave gaps, so `√(cover/π)` falls short of dark tones (no
+/// radius under half a period can cover more than π/4); the share each radius really inks is
+/// measured once on the lattice itself (its own jitter, its ±1 neighbourhood) and inverted.
+pub(super) fn stipple_radius(cover: f32) -> f64 {
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let inked = TABLE.get_or_init(|| {
+        // 24 × 24 lattice cells, 6 × 6 points each.
+        let (cells, points) = (24usize, 6usize);
+        (0..=DOT_STEPS)
+            .map(|k| {
+                let r = DOT_MAX_RADIUS * k as f64 / DOT_STEPS as f64;
+                let mut hits = 0usize;
+                for cy in 0..cells {
+                    for cx in 0..cells {
+                        for j in 0..points {
+                            for i in 0..points {
+                                let q = DVec2::new(
+                                    cx as f64 + (i as f64 + 0.5) / points as f64,
+                                    cy as f64 + (j as f64 + 0.5) / points as f64,
+                                );
+                                let cell = q.floor();
+                                let near = (-1..=1).any(|dy| {
+                                    (-1..=1).any(|dx| {
+                                        let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
+                                        (q - dot_centre(0, c)).length() < r
+                                    })
+                                });
+                                hits += usize::from(near);
+                            }
+                        }
+                    }
+                }
+                hits as f64 / (cells * cells * points * points) as f64
+            })
+            .collect()
+    });
+    let c = f64::from(cover.clamp(0.0, 1.0));
+    // The table grows with the radius: the first radius that inks at least `c`, by bisection
+    // (this runs at every raster point of a stippled cell).
+    match inked.partition_point(|&v| v < c) {
+        0 => 0.0,
+        k if k > DOT_STEPS => DOT_MAX_RADIUS,
+        k => {
+            let (lo, hi) = (inked[k - 1], inked[k]);
+            let t = if hi > lo { (c - lo) / (hi - lo) } else { 1.0 };
+            DOT_MAX_RADIUS * ((k - 1) as f64 + t) / DOT_STEPS as f64
+        }
+    }
+}
