@@ -11,6 +11,7 @@ use crate::field::{
 use crate::progress::{timed, Observer, Silent, Stage};
 use image::DynamicImage;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// What the user named as input.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,10 +82,11 @@ pub struct FieldOptions {
 #[derive(Clone, Debug)]
 pub struct LoadedField {
     /// The metric: ellipse semi-axes in pixels.
-    pub metric: TensorField,
+    pub metric: Arc<TensorField>,
     /// What the metric was made from: the structure tensor of a photo, or the tensor field as
-    /// read or generated.
-    pub raw: TensorField,
+    /// read or generated. Shared with `metric` when the input already is a metric (a field of
+    /// 4096² nodes takes 200 MB).
+    pub raw: Arc<TensorField>,
     /// The photo, for previews and rendering.
     pub photo: Option<DynamicImage>,
 }
@@ -113,7 +115,9 @@ pub fn load_field_observed(
             }))
         }
         Input::Npy(path) => {
-            let raw = timed(observer, Stage::Reading, || crate::io::read_npy(path))?;
+            let raw = Arc::new(timed(observer, Stage::Reading, || {
+                crate::io::read_npy(path)
+            })?);
             let metric = timed(observer, Stage::Metric, || {
                 tensor_file_metric(path, &raw, options)
             })?;
@@ -135,11 +139,11 @@ pub fn load_field_observed(
                 ));
             }
             let (raw, metric) = timed(observer, Stage::Metric, || {
-                let raw = a.field(w, h);
+                let raw = Arc::new(a.field(w, h));
                 let metric = if a.is_metric() {
-                    raw.clone()
+                    Arc::clone(&raw)
                 } else {
-                    metric::metric_from_general(&raw, &options.mapping)
+                    Arc::new(metric::metric_from_general(&raw, &options.mapping))
                 };
                 (raw, metric)
             });
@@ -158,8 +162,8 @@ pub fn load_field_observed(
 pub fn photo_field(photo: DynamicImage, params: &MetricParams) -> LoadedField {
     let (raw, metric) = photo_metric(&photo, params);
     LoadedField {
-        metric,
-        raw,
+        metric: Arc::new(metric),
+        raw: Arc::new(raw),
         photo: Some(flatten_on_paper(photo)),
     }
 }
@@ -183,9 +187,9 @@ fn validate_mapping(p: &MappingParams) -> Result<()> {
 /// The metric of a tensor read from a file, according to [`TensorKind`].
 fn tensor_file_metric(
     path: &Path,
-    raw: &TensorField,
+    raw: &Arc<TensorField>,
     options: &FieldOptions,
-) -> Result<TensorField> {
+) -> Result<Arc<TensorField>> {
     let not_pd = |t: Tensor| !t.is_positive_definite();
     let first_bad = raw.first_node_where(not_pd);
     match (options.tensor_kind, first_bad) {
@@ -199,9 +203,9 @@ fn tensor_file_metric(
                 l2: e.l2,
             })
         }
-        (TensorKind::Metric, None) | (TensorKind::Auto, None) => Ok(raw.clone()),
+        (TensorKind::Metric, None) | (TensorKind::Auto, None) => Ok(Arc::clone(raw)),
         (TensorKind::General, _) | (TensorKind::Auto, Some(_)) => {
-            Ok(metric::metric_from_general(raw, &options.mapping))
+            Ok(Arc::new(metric::metric_from_general(raw, &options.mapping)))
         }
     }
 }

@@ -17,7 +17,11 @@ fn analytic(spec: &str, w: usize, h: usize) -> TensorField {
         analytic_size: Some((w, h)),
         ..FieldOptions::default()
     };
-    input::load_field(&input, &options).unwrap().metric
+    input::load_field(&input, &options)
+        .unwrap()
+        .metric
+        .as_ref()
+        .clone()
 }
 
 fn sampled(field: &TensorField) -> Sampling {
@@ -81,7 +85,7 @@ fn label_map_agrees_with_brute_force_on_photos_and_fields() {
         "samples/astronaut.jpg",
     ] {
         let loaded = input::load_field(&Input::parse(photo).unwrap(), &FieldOptions::default());
-        cases.push((photo.into(), loaded.unwrap().metric));
+        cases.push((photo.into(), loaded.unwrap().metric.as_ref().clone()));
     }
     for (name, field) in cases {
         let s = sampled(&field);

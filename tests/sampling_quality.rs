@@ -26,6 +26,8 @@ fn photo_metric(path: &str) -> TensorField {
     input::load_field(&Input::parse(path).unwrap(), &options)
         .unwrap()
         .metric
+        .as_ref()
+        .clone()
 }
 
 /// Brute-force nearest-neighbour summary, coverage and overlap of a sampling.

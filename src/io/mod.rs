@@ -170,51 +170,138 @@ pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
     if (bytes.len() as u64) < (count * bytes_per) as u64 + 10 {
         return Err(truncated(path, &shape, count * bytes_per));
     }
-    let fortran = npy.order() == npyz::Order::Fortran;
-    let data_err = |e: std::io::Error| {
-        if e.kind() == std::io::ErrorKind::UnexpectedEof {
-            truncated(path, &shape, count * bytes_per)
-        } else {
-            npy_err(format!("cannot read data: {e}"))
-        }
-    };
-    let values: Vec<f64> = if bytes_per == 4 {
-        let v: Vec<f32> = npy.into_vec().map_err(data_err)?;
-        v.into_iter().map(f64::from).collect()
-    } else {
-        npy.into_vec().map_err(data_err)?
-    };
-    if values.len() != count {
-        return Err(npy_err(format!(
-            "holds {} values, expected {count}",
-            values.len()
-        )));
-    }
     let (h, w) = (h as usize, w as usize);
-    let at = |r: usize, c: usize, k: usize| {
-        if fortran {
-            values[r + h * (c + w * k)]
+    let data = if npy.order() == npyz::Order::Fortran {
+        let data_err = |e: std::io::Error| {
+            if e.kind() == std::io::ErrorKind::UnexpectedEof {
+                truncated(path, &shape, count * bytes_per)
+            } else {
+                npy_err(format!("cannot read data: {e}"))
+            }
+        };
+        let values: Vec<f64> = if bytes_per == 4 {
+            let v: Vec<f32> = npy.into_vec().map_err(data_err)?;
+            v.into_iter().map(f64::from).collect()
         } else {
-            values[(r * w + c) * 3 + k]
+            npy.into_vec().map_err(data_err)?
+        };
+        if values.len() != count {
+            return Err(npy_err(format!(
+                "holds {} values, expected {count}",
+                values.len()
+            )));
+        }
+        tensors_fortran(&values, w, h)
+    } else {
+        // C order, the usual case: the data are read straight from the bytes, row by row in
+        // parallel, without an intermediate vector of values.
+        let data = header_len(bytes)
+            .and_then(|start| bytes.get(start..start + count * bytes_per))
+            .ok_or_else(|| truncated(path, &shape, count * bytes_per))?;
+        let big = type_str.endianness() == npyz::Endianness::Big;
+        tensors_c(data, w, bytes_per, big)
+    };
+    match data {
+        Ok(data) => Ok(TensorField::new(w, h, data)),
+        Err((x, y)) => Err(Error::NonFinite {
+            path: path.into(),
+            x,
+            y,
+        }),
+    }
+}
+
+/// Where the data of a `.npy` file start: after the magic, version, header length and header.
+fn header_len(bytes: &[u8]) -> Option<usize> {
+    let major = *bytes.get(6)?;
+    if major == 1 {
+        Some(10 + usize::from(u16::from_le_bytes([*bytes.get(8)?, *bytes.get(9)?])))
+    } else {
+        let b = bytes.get(8..12)?;
+        Some(12 + u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+    }
+}
+
+/// One stored value as `f32`, or `None` when it is not finite or does not fit.
+fn stored_value(b: &[u8], big: bool) -> Option<f32> {
+    let v = match b.len() {
+        4 => {
+            let a = [b[0], b[1], b[2], b[3]];
+            f64::from(if big {
+                f32::from_be_bytes(a)
+            } else {
+                f32::from_le_bytes(a)
+            })
+        }
+        _ => {
+            let a = [b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]];
+            if big {
+                f64::from_be_bytes(a)
+            } else {
+                f64::from_le_bytes(a)
+            }
         }
     };
+    (v.is_finite() && v.abs() <= f64::from(f32::MAX)).then_some(v as f32)
+}
+
+/// Tensors from C-ordered `(H, W, 3)` data of `bytes_per`-byte floats, or the first pixel
+/// (x, y) holding a value that is not finite.
+fn tensors_c(
+    data: &[u8],
+    w: usize,
+    bytes_per: usize,
+    big: bool,
+) -> std::result::Result<Vec<[f32; 3]>, (usize, usize)> {
+    use rayon::prelude::*;
+    let h = data.len() / (w * 3 * bytes_per).max(1);
+    let mut out = vec![[0.0f32; 3]; w * h];
+    let first_bad: Vec<Option<usize>> = out
+        .par_chunks_mut(w.max(1))
+        .zip(data.par_chunks(w.max(1) * 3 * bytes_per))
+        .map(|(row, bytes)| {
+            let pixels = row.iter_mut().zip(bytes.chunks_exact(3 * bytes_per));
+            for (x, (t, px)) in pixels.enumerate() {
+                for (k, v) in px.chunks_exact(bytes_per).enumerate() {
+                    match stored_value(v, big) {
+                        Some(v) => t[k] = v,
+                        None => return Some(x),
+                    }
+                }
+            }
+            None
+        })
+        .collect();
+    match first_bad
+        .iter()
+        .enumerate()
+        .find_map(|(y, x)| x.map(|x| (x, y)))
+    {
+        Some(at) => Err(at),
+        None => Ok(out),
+    }
+}
+
+/// Tensors from Fortran-ordered values, or the first pixel (x, y) in row order holding a
+/// value that is not finite.
+fn tensors_fortran(
+    values: &[f64],
+    w: usize,
+    h: usize,
+) -> std::result::Result<Vec<[f32; 3]>, (usize, usize)> {
     let mut data = Vec::with_capacity(w * h);
     for r in 0..h {
         for c in 0..w {
-            let t = [at(r, c, 0), at(r, c, 1), at(r, c, 2)];
+            let t = [0, 1, 2].map(|k| values[r + h * (c + w * k)]);
             if t.iter()
                 .any(|v| !v.is_finite() || v.abs() > f64::from(f32::MAX))
             {
-                return Err(Error::NonFinite {
-                    path: path.into(),
-                    x: c,
-                    y: r,
-                });
+                return Err((c, r));
             }
-            data.push(Tensor::new(t[0], t[1], t[2]).to_f32());
+            data.push(t.map(|v| v as f32));
         }
     }
-    Ok(TensorField::new(w, h, data))
+    Ok(data)
 }
 
 fn truncated(path: &Path, shape: &[u64], data_bytes: usize) -> Error {

@@ -277,6 +277,12 @@ impl AnisotropicDelaunay {
         }
     }
 
+    /// Room for exactly `extra` more [`Self::split_triangle`]s.
+    pub fn reserve_splits(&mut self, extra: usize) {
+        self.origin.reserve_exact(6 * extra);
+        self.twin.reserve_exact(6 * extra);
+    }
+
     /// Inserts vertex `v`, which lies strictly inside triangle `t`, by splitting `t` into three
     /// (a b v, b c v, c a v). The mesh is a valid triangulation afterwards but not yet
     /// Delaunay: call [`Self::legalize`].

@@ -4,12 +4,15 @@
 //!
 //! Order of work in [`sample`]:
 //! 1. [`boundary`]: fixed corner and edge samples;
-//! 2. [`seeding`]: relaxation dart throwing for the interior, up to the estimated count;
+//! 2. the interior's seed: a metric-aligned hexagonal lattice grown as a front ([`lattice`],
+//!    the default), or the paper's relaxation dart throwing up to the estimated count
+//!    ([`seeding`]);
 //! 3. [`delaunay`]: the anisotropic Delaunay triangulation, whose one-rings are the only
 //!    neighbours a particle feels;
 //! 4. iterations of the force spline ([`force`]) with Euler integration of eq. 5 (Δt = 0.2,
 //!    force scale and drag from a linearised packing, see [`SamplerParams::force_scale`]),
-//!    the triangulation repaired every `k` iterations;
+//!    the triangulation repaired every `k` iterations; particles at rest sleep until a
+//!    neighbour moves;
 //! 5. [`population`] control at each repair but in the last (settling) iterations: insert into
 //!    poorly filled triangles, delete overcrowded samples; while settling, the force scale
 //!    eases off so the packing comes to rest;
@@ -31,6 +34,7 @@ pub mod delaunay;
 pub mod distance;
 pub mod edges;
 pub mod force;
+pub mod lattice;
 pub mod params;
 mod particles;
 pub mod population;
@@ -43,7 +47,7 @@ pub mod seeding;
 pub use delaunay::AnisotropicDelaunay;
 pub use edges::Edges;
 pub use force::force_spline;
-pub use params::{validate_metric, SamplerParams, DEFAULT_MAX_SAMPLES};
+pub use params::{validate_metric, SamplerParams, Seeding, DEFAULT_MAX_SAMPLES};
 pub use population::fill_rate;
 pub use quality::Quality;
 pub use seeding::DartParams;
@@ -112,7 +116,8 @@ pub struct Sampling {
 /// metrics are smoothed with a σ of their ellipses' radius), and a field of a few megabytes
 /// instead of tens keeps the per-particle look-ups in cache: on a 1024² field they were half
 /// of the run.
-fn sampling_field(field: &TensorField) -> TensorField {
+/// A field that needs no coarsening is borrowed, not copied (a 4096² field is 200 MB).
+fn sampling_field(field: &TensorField) -> std::borrow::Cow<'_, TensorField> {
     let smallest = field
         .data()
         .par_iter()
@@ -124,7 +129,11 @@ fn sampling_field(field: &TensorField) -> TensorField {
     } else {
         1
     };
-    field.coarsened(factor)
+    if factor == 1 {
+        std::borrow::Cow::Borrowed(field)
+    } else {
+        std::borrow::Cow::Owned(field.coarsened(factor))
+    }
 }
 
 /// Runs the whole sampler on `field` (a metric). Fails before any work when the metric has
@@ -144,7 +153,7 @@ pub fn sample_observed(
     let estimate = validate_metric(full_field, params.max_samples)?;
     observer.begin(Stage::Seeding, None);
     let coarse = sampling_field(full_field);
-    let field = &coarse;
+    let field: &TensorField = &coarse;
     let mut stats = Stats {
         estimated_count: estimate,
         ..Stats::default()
@@ -152,8 +161,16 @@ pub fn sample_observed(
     let mut rng = rng::Rng::new(params.seed, 0);
     let fixed = boundary::boundary_samples(field, &mut rng);
     let target = (estimate - fixed.len() as f64).round().max(0.0) as usize;
-    let (interior, rho) =
-        seeding::relaxation_dart_throwing(field, &fixed, target, &params.darts, &mut rng);
+    let (interior, rho) = match params.seeding {
+        Seeding::Darts => {
+            seeding::relaxation_dart_throwing(field, &fixed, target, &params.darts, &mut rng)
+        }
+        Seeding::Lattice => {
+            let interior =
+                lattice::lattice_seeding(field, &fixed, target, &params.lattice, &mut rng);
+            (interior, params.lattice.rho)
+        }
+    };
     stats.boundary = fixed.len();
     stats.seeded = interior.len();
     stats.final_rho = rho;
@@ -168,6 +185,8 @@ pub fn sample_observed(
     let mut particles = Particles::new(all, nfixed, field);
     let mut mesh = rebuild(&mut particles, field, &mut stats);
     let mut edges = mesh.edges(particles.positions.len());
+    // The edges changed since the edge forces were computed.
+    let mut fresh = true;
     let dynamics = Dynamics {
         dt: params.time_step,
         scale: params.force_scale(),
@@ -189,10 +208,15 @@ pub fn sample_observed(
                 }
                 control_population(mesh, &mut particles, field, params, &mut stats)
             };
+            // The old edges go before the new ones are built (tens of MB each).
+            drop(std::mem::take(&mut edges));
             edges = mesh.edges(particles.positions.len());
+            fresh = true;
         } else if drift > REPAIR_DRIFT {
             mesh = repair(mesh, &mut particles, field, &mut stats);
+            drop(std::mem::take(&mut edges));
             edges = mesh.edges(particles.positions.len());
+            fresh = true;
         }
         let t = Instant::now();
         // Over the settling iterations the force scale falls linearly to `settle_force`
@@ -206,7 +230,8 @@ pub fn sample_observed(
             ..dynamics
         };
         let step;
-        (step, drift) = relax_once(&mut particles, &edges, field, &dynamics_now);
+        (step, drift) = relax_once(&mut particles, &edges, field, &dynamics_now, fresh);
+        fresh = false;
         stats.relaxation_time += t.elapsed();
         stats.iterations = it + 1;
         observer.advance(Stage::Relaxation, stats.iterations as u64);

@@ -4,6 +4,7 @@
 //! packing, and the checks a metric must pass before any work ([`validate_metric`]).
 
 use super::force;
+use super::lattice::LatticeParams;
 use super::seeding::{self, DartParams};
 use crate::error::{Error, Result};
 use crate::field::TensorField;
@@ -46,8 +47,45 @@ pub struct SamplerParams {
     pub tolerance: f64,
     /// Refuse fields whose estimated sample count exceeds this.
     pub max_samples: usize,
-    /// Relaxation dart throwing.
+    /// How the interior is seeded.
+    pub seeding: Seeding,
+    /// Lattice seeding.
+    pub lattice: LatticeParams,
+    /// Relaxation dart throwing (also fills what lattice seeding leaves empty).
     pub darts: DartParams,
+}
+
+/// How the interior samples are seeded before the relaxation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Seeding {
+    /// A metric-aligned hexagonal lattice grown as a front ([`lattice`](super::lattice)).
+    Lattice,
+    /// The paper's relaxation dart throwing ([`seeding`](super::seeding)).
+    Darts,
+}
+
+impl Seeding {
+    /// The names the preset key `sampler.seeding` takes.
+    pub const NAMES: [&'static str; 2] = ["lattice", "darts"];
+
+    /// The method's name in presets.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Seeding::Lattice => "lattice",
+            Seeding::Darts => "darts",
+        }
+    }
+
+    /// The method called `name`.
+    #[must_use]
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "lattice" => Some(Seeding::Lattice),
+            "darts" => Some(Seeding::Darts),
+            _ => None,
+        }
+    }
 }
 
 impl Default for SamplerParams {
@@ -66,6 +104,8 @@ impl Default for SamplerParams {
             delete_pressure: 0.3,
             tolerance: 1e-3,
             max_samples: DEFAULT_MAX_SAMPLES,
+            seeding: Seeding::Lattice,
+            lattice: LatticeParams::default(),
             darts: DartParams::default(),
         }
     }

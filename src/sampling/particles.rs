@@ -1,7 +1,8 @@
 //! Particle state during relaxation (paper section 5.3): structure-of-arrays of positions,
-//! metrics and their inverses, velocities and per-edge forces, boundary samples first, kept in
-//! Morton order so loops over particles, their neighbours and the field read memory mostly in
-//! order. Insertion appends, deletion and reordering gather every array the same way.
+//! metrics and their inverses, velocities, motion flags and per-edge forces, boundary samples
+//! first, kept in Morton order so loops over particles, their neighbours and the field read
+//! memory mostly in order. Insertion appends, deletion and reordering gather every array the
+//! same way.
 
 use super::seeding;
 use crate::field::{Tensor, TensorField};
@@ -20,8 +21,24 @@ pub(super) struct Particles {
     pub(super) looked_up: Vec<DVec2>,
     /// Where each particle was when the triangulation was last made Delaunay (NaN: never).
     pub(super) meshed_at: Vec<DVec2>,
+    /// Motion flags of each particle ([`AWAKE`], [`MOVED`], [`STIRRED`], [`QUIET`]).
+    pub(super) motion: Vec<u8>,
+    /// The next iteration's flags (reused).
+    pub(super) next_motion: Vec<u8>,
     pub(super) fixed: usize,
 }
+
+/// The particle is integrated this iteration.
+pub(super) const AWAKE: u8 = 1;
+/// Its position changed in the last iteration (its edges' forces are stale).
+pub(super) const MOVED: u8 = 2;
+/// It moved more than [`SLEEP`] of its size in the last iteration (it wakes its neighbours).
+pub(super) const STIRRED: u8 = 4;
+/// Its last step and the step its force would give next are both under [`SLEEP`].
+pub(super) const QUIET: u8 = 8;
+/// Steps under this fraction of a particle's size let it sleep: a tenth of the default
+/// stopping tolerance.
+pub(super) const SLEEP: f64 = 1e-4;
 
 impl Particles {
     pub(super) fn new(positions: Vec<DVec2>, fixed: usize, field: &TensorField) -> Self {
@@ -31,7 +48,11 @@ impl Particles {
             .map(|m| m.inverse().unwrap_or_default())
             .collect();
         let velocities = vec![DVec2::ZERO; positions.len()];
+        let mut motion = vec![AWAKE | MOVED; positions.len()];
+        motion[..fixed].fill(0);
         Particles {
+            motion,
+            next_motion: Vec::new(),
             looked_up: positions.clone(),
             meshed_at: vec![DVec2::NAN; positions.len()],
             positions,
@@ -43,6 +64,18 @@ impl Particles {
         }
     }
 
+    /// Room for exactly `extra` more particles in every array: arrays of a million particles
+    /// grown by doubling would hold twice their size for a moment.
+    pub(super) fn reserve_exact(&mut self, extra: usize) {
+        self.positions.reserve_exact(extra);
+        self.looked_up.reserve_exact(extra);
+        self.meshed_at.reserve_exact(extra);
+        self.metrics.reserve_exact(extra);
+        self.inverses.reserve_exact(extra);
+        self.velocities.reserve_exact(extra);
+        self.motion.reserve_exact(extra);
+    }
+
     pub(super) fn push(&mut self, p: DVec2, field: &TensorField) {
         let m = field.sample(p);
         self.positions.push(p);
@@ -51,6 +84,7 @@ impl Particles {
         self.metrics.push(m);
         self.inverses.push(m.inverse().unwrap_or_default());
         self.velocities.push(DVec2::ZERO);
+        self.motion.push(AWAKE | MOVED);
     }
 
     /// Puts the free particles in Morton (Z-curve) order of their positions, so that loops
@@ -100,5 +134,6 @@ impl Particles {
         gather(&mut self.meshed_at, order);
         gather(&mut self.metrics, order);
         gather(&mut self.inverses, order);
+        gather(&mut self.motion, order);
     }
 }

@@ -1,13 +1,13 @@
 //! One relaxation step and the triangulation's upkeep (paper sections 5.3-5.5): the force
 //! spline summed over each particle's anisotropic Delaunay edges and integrated by Euler steps
-//! of eq. 5 ([`relax_once`]); Lawson repairs and rebuilds of the triangulation as particles
-//! move ([`repair`], [`rebuild`]); population control at the repairs ([`control_population`]:
-//! fill-rate insertion, pressure deletion).
+//! of eq. 5 ([`relax_once`], where particles at rest sleep); Lawson repairs and rebuilds of
+//! the triangulation as particles move ([`repair`], [`rebuild`]); population control at the
+//! repairs ([`control_population`]: fill-rate insertion, pressure deletion).
 
 use super::delaunay::AnisotropicDelaunay;
 use super::edges::Edges;
 use super::params::SamplerParams;
-use super::particles::Particles;
+use super::particles::{Particles, AWAKE, MOVED, QUIET, SLEEP, STIRRED};
 use super::{distance, force_spline, population, Stats};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
@@ -100,6 +100,8 @@ pub(super) fn control_population(
     );
     stats.deleted += gone.len();
     stats.inserted += new.len();
+    particles.reserve_exact(new.len());
+    mesh.reserve_splits(new.len());
     for &(triangle, p) in &new {
         mesh.split_triangle(triangle, particles.positions.len() as u32);
         particles.push(p, field);
@@ -126,7 +128,7 @@ pub(super) struct Dynamics {
     pub(super) drag: f64,
 }
 
-/// One Euler step of eq. 5 for every free particle: `v ← (v + Δt·F)/(1 + Δt·C_drag)`,
+/// One Euler step of eq. 5 for every awake free particle: `v ← (v + Δt·F)/(1 + Δt·C_drag)`,
 /// `p ← p + Δt·v`,
 /// a step never longer than a third of the particle's size `√det m`, positions kept inside the
 /// domain. Returns the largest step and the largest distance from where the particle was at the
@@ -137,11 +139,18 @@ pub(super) struct Dynamics {
 /// nothing is reduced in an order that depends on threads, so the result is the same at any
 /// thread count. All edge forces are computed before any particle moves, so positions and
 /// metrics are then updated in place.
+///
+/// Particles at rest sleep: one whose step and whose next step (from its velocity and force)
+/// are both under [`SLEEP`] of its size is not integrated until a neighbour moves more than
+/// that. An edge's force is computed again only when one of its ends moved, or when the edges
+/// are `fresh` (a new or repaired triangulation). Where the packing is already in equilibrium,
+/// as over most of a lattice seed, an iteration then costs little more than reading the flags.
 pub(super) fn relax_once(
     particles: &mut Particles,
     edges: &Edges,
     field: &TensorField,
     dyn_: &Dynamics,
+    fresh: bool,
 ) -> (f64, f64) {
     let fixed = particles.fixed;
     let domain = field.domain();
@@ -153,21 +162,28 @@ pub(super) fn relax_once(
         edge_forces,
         looked_up,
         meshed_at,
+        motion,
+        next_motion,
         ..
     } = particles;
-    let (positions_now, metrics_now): (&[DVec2], &[Tensor]) = (positions, metrics);
-    edge_forces.resize(edges.ends.len(), DVec2::ZERO);
+    let (positions_now, metrics_now, motion_now): (&[DVec2], &[Tensor], &[u8]) =
+        (positions, metrics, motion);
+    if edge_forces.len() != edges.ends.len() {
+        // Exactly: a million particles have three million edges.
+        *edge_forces = Vec::new();
+        edge_forces.reserve_exact(edges.ends.len());
+        edge_forces.resize(edges.ends.len(), DVec2::ZERO);
+    }
     edge_forces
         .par_iter_mut()
         .zip(edges.ends.par_iter())
         .for_each(|(f, &[a, b])| {
-            let (pa, pb) = (positions_now[a as usize], positions_now[b as usize]);
-            let d = distance::contact_distance(
-                pa,
-                &metrics_now[a as usize],
-                pb,
-                &metrics_now[b as usize],
-            );
+            let (a, b) = (a as usize, b as usize);
+            if !fresh && (motion_now[a] | motion_now[b]) & MOVED == 0 {
+                return;
+            }
+            let (pa, pb) = (positions_now[a], positions_now[b]);
+            let d = distance::contact_distance(pa, &metrics_now[a], pb, &metrics_now[b]);
             // Force on a: S·f(d)·ŷ·d_opt with ŷ·d_opt = (y/|y|)·(|y|/d) = y/d.
             *f = if d > 0.0 {
                 (pa - pb) * (dyn_.scale * force_spline(d) / d)
@@ -189,11 +205,20 @@ pub(super) fn relax_once(
                 .zip(inverses[fixed..].par_iter_mut()),
         )
         .zip(looked_up[fixed..].par_iter_mut())
-        .zip(meshed_at[fixed..].par_iter())
+        .zip(
+            meshed_at[fixed..]
+                .par_iter()
+                .zip(motion[fixed..].par_iter_mut()),
+        )
         .enumerate()
-        .map(|(k, ((((pos, v), (m, inv)), at), meshed))| {
+        .map(|(k, ((((pos, v), (m, inv)), at), (meshed, flags)))| {
             let i = fixed + k;
             let p = *pos;
+            let size = m.det().sqrt().max(1e-12);
+            if *flags & AWAKE == 0 {
+                *flags &= !(MOVED | STIRRED);
+                return (0.0, (p - *meshed).length() / size);
+            }
             let mut force = DVec2::ZERO;
             for (e, first, _) in edges.at(i) {
                 force += if first {
@@ -204,7 +229,6 @@ pub(super) fn relax_once(
             }
             // Drag taken implicitly: stable for any C_drag·Δt, unlike v·(1 − C_drag·Δt).
             *v = (*v + force * dyn_.dt) / (1.0 + dyn_.drag * dyn_.dt);
-            let size = m.det().sqrt();
             let mut step = *v * dyn_.dt;
             let cap = size / 3.0;
             if step.length() > cap {
@@ -212,16 +236,47 @@ pub(super) fn relax_once(
             }
             let margin = 1e-6 * size.max(1e-3);
             *pos = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
+            let moved = (*pos - p).length() / size;
+            let next = (*v + force * dyn_.dt).length() * dyn_.dt / size;
+            *flags = AWAKE
+                | if *pos != p { MOVED } else { 0 }
+                | if moved > SLEEP { STIRRED } else { 0 }
+                | if moved < SLEEP && next < SLEEP {
+                    QUIET
+                } else {
+                    0
+                };
             if (*pos - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
                 *m = field.sample(*pos);
                 *inv = m.inverse().unwrap_or_default();
                 *at = *pos;
             }
-            let size = size.max(1e-12);
             // A NaN `meshed` (never meshed) gives NaN, which `max` ignores.
-            ((*pos - p).length() / size, (*pos - *meshed).length() / size)
+            (moved, (*pos - *meshed).length() / size)
         })
         .reduce(|| (0.0, 0.0), |a, b| (a.0.max(b.0), a.1.max(b.1)));
+    // Who is awake next: the restless, and whoever has a neighbour that moved. A particle
+    // that falls asleep keeps no velocity.
+    let motion_now: &[u8] = motion;
+    next_motion.resize(motion_now.len(), 0);
+    next_motion[fixed..]
+        .par_iter_mut()
+        .zip(velocities[fixed..].par_iter_mut())
+        .enumerate()
+        .for_each(|(k, (next, v))| {
+            let i = fixed + k;
+            let flags = motion_now[i];
+            let stirred = edges
+                .at(i)
+                .any(|(_, _, j)| motion_now[j as usize] & STIRRED != 0);
+            *next = if flags & QUIET == 0 || stirred {
+                flags | AWAKE
+            } else {
+                *v = DVec2::ZERO;
+                flags & !AWAKE
+            };
+        });
+    std::mem::swap(motion, next_motion);
     largest
 }
 

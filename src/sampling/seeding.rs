@@ -87,7 +87,7 @@ fn node_area(metric: &TensorField) -> f64 {
 
 /// A uniform grid of cells, each holding a linked list of registrations (flat arrays: one
 /// head per cell, one [`Entry`] per registration).
-struct CellGrid {
+pub(super) struct CellGrid {
     cell: f64,
     cols: usize,
     rows: usize,
@@ -108,6 +108,21 @@ struct Entry {
 const END: u32 = u32::MAX;
 
 impl CellGrid {
+    /// A grid over `metric`'s domain with cells of twice the median long semi-axis (kept to a
+    /// few million cells even for extreme fields), with room for `expected` samples whose discs
+    /// have radius up to that axis. A disc of a median sample touches one to four cells: a
+    /// million samples take about 100 MB of registrations (over 500 MB with cells of one
+    /// axis, growing by doubling).
+    pub(super) fn for_field(metric: &TensorField, expected: usize) -> Self {
+        let d = metric.domain();
+        let median = median_long_axis(metric);
+        let cell = (2.0 * median).max((d.x * d.y / 4.0e6).sqrt());
+        let mut grid = CellGrid::new(d, cell);
+        let per_disc = (1.0 + 2.0 * median / cell).powi(2).min(16.0);
+        grid.entries.reserve((expected as f64 * per_disc) as usize);
+        grid
+    }
+
     fn new(domain: DVec2, cell: f64) -> Self {
         let cols = (domain.x / cell).ceil().max(1.0) as usize;
         let rows = (domain.y / cell).ceil().max(1.0) as usize;
@@ -118,6 +133,18 @@ impl CellGrid {
             head: vec![END; cols * rows],
             entries: Vec::new(),
         }
+    }
+
+    /// Centres of the cells no sample's disc touches, in row order.
+    pub(super) fn empty_cells(&self) -> impl Iterator<Item = DVec2> + '_ {
+        self.head
+            .iter()
+            .enumerate()
+            .filter(|&(_, &h)| h == END)
+            .map(|(i, _)| {
+                let (x, y) = (i % self.cols, i / self.cols);
+                DVec2::new(x as f64 + 0.5, y as f64 + 0.5) * self.cell
+            })
     }
 
     /// Cell index ranges touched by the disc of `radius` about `p`.
@@ -134,7 +161,7 @@ impl CellGrid {
 
     /// Registers sample `id` at `p` with long semi-axis `long` in every cell its disc of
     /// radius `radius` touches.
-    fn insert(&mut self, id: u32, p: DVec2, long: f64, radius: f64) {
+    pub(super) fn insert(&mut self, id: u32, p: DVec2, long: f64, radius: f64) {
         let (x0, x1, y0, y1) = self.cells(p, radius);
         for y in y0..=y1 {
             for x in x0..=x1 {
@@ -165,11 +192,7 @@ pub fn relaxation_dart_throwing(
     let sampler = DensitySampler::new(metric);
     // The long semi-axis, without the angle.
     let long_axis = long_semi_axis;
-    let mut cell = median_long_axis(metric);
-    // Keep the grid to a few million cells even for extreme fields.
-    let d = metric.domain();
-    cell = cell.max((d.x * d.y / 4.0e6).sqrt());
-    let mut grid = CellGrid::new(d, cell);
+    let mut grid = CellGrid::for_field(metric, fixed.len() + target);
 
     let mut positions: Vec<DVec2> = Vec::with_capacity(fixed.len() + target);
     let mut inverses: Vec<Tensor> = Vec::with_capacity(fixed.len() + target);
@@ -272,7 +295,7 @@ pub fn morton_key(p: DVec2, domain: DVec2) -> u32 {
 }
 
 /// Whether a candidate at `c` is closer than `rho` (normalised) to any registered sample.
-fn conflicts(
+pub(super) fn conflicts(
     grid: &CellGrid,
     inverses: &[Tensor],
     c: DVec2,

@@ -15,7 +15,7 @@ use crate::render::mosaic::MosaicParams;
 use crate::render::outline::OutlineParams;
 use crate::render::texture::{Ink, TextureKind, TextureParams, BLACK_INK};
 use crate::render::Look;
-use crate::sampling::SamplerParams;
+use crate::sampling::{SamplerParams, Seeding};
 use std::path::{Path, PathBuf};
 
 /// `ellipse`, `rectangle`, `brush` or `superquadric:P` → the glyph outline.
@@ -98,10 +98,20 @@ impl Preset {
         Ok(p)
     }
 
-    /// The sampler parameters: `sampler.iterations` 0 to [`MAX_ITERATIONS`], any seed.
+    /// The sampler parameters: `sampler.iterations` 0 to [`MAX_ITERATIONS`], any seed,
+    /// `sampler.seeding` "lattice" (the default) or "darts".
     pub fn sampler(&self) -> Result<SamplerParams> {
         let s = &self.file.sampler;
         let d = SamplerParams::default();
+        let seeding = match s.seeding.as_deref() {
+            None => d.seeding,
+            Some(name) => Seeding::named(name).ok_or_else(|| {
+                Error::param(
+                    "sampler.seeding",
+                    format!("{name}: expected one of {}", Seeding::NAMES.join(", ")),
+                )
+            })?,
+        };
         Ok(SamplerParams {
             iterations: ranged(
                 "sampler.iterations",
@@ -110,6 +120,7 @@ impl Preset {
                 (0, MAX_ITERATIONS),
             )?,
             seed: s.seed.unwrap_or(d.seed),
+            seeding,
             ..d
         })
     }

@@ -129,6 +129,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
         sampler: SamplerSection {
             iterations: Some(s.iterations),
             seed: Some(s.seed),
+            seeding: Some(s.seeding.name().to_string()),
         },
         look,
     })

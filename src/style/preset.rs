@@ -72,6 +72,9 @@ pub struct SamplerSection {
     pub iterations: Option<usize>,
     /// Seed.
     pub seed: Option<u64>,
+    /// "lattice" (a metric-aligned hexagonal lattice grown as a front) or "darts" (the
+    /// paper's relaxation dart throwing).
+    pub seeding: Option<String>,
 }
 
 /// `[look]`: `kind` picks the renderer; the other keys are its parameters (a key another
@@ -282,6 +285,7 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
         sampler: SamplerSection {
             iterations: s.1.iterations.or(s.0.iterations),
             seed: s.1.seed.or(s.0.seed),
+            seeding: s.1.seeding.or(s.0.seeding),
         },
         look: LookSection {
             kind: o.kind.or(b.kind),

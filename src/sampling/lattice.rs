@@ -1,0 +1,233 @@
+//! Seeding from a metric-aligned hexagonal lattice, grown as a front (an alternative to the
+//! paper's relaxation dart throwing, section 5.1, that starts the relaxation near its end).
+//!
+//! In the metric's own space, where every ellipse is a unit circle, touching circles pack as a
+//! hexagonal lattice of spacing 2. The front grows that lattice outwards from one seed: each
+//! accepted sample `p` with metric `m_p = R diag(a, b) Rᵀ` proposes six neighbours
+//! `p + (m_p + m_c)·u_k`, `u_k = R(α + θ₀ + kπ/3)·x̂` (α the long axis' angle, `m_c` the metric
+//! at the first guess `p + 2 m_p u_k`): at eq. 4's `d = 1` from `p` with both metrics. A
+//! proposal is accepted unless it lies outside the domain or closer than ρ (eq. 4) to a sample
+//! already there, tested exactly with the dart thrower's grid. Samples are taken first in,
+//! first out, so the front is a ring about the seed and meets the fixed boundary last. On a
+//! constant field this is the hexagonal packing itself (90.7 % coverage, `N` the estimate); where
+//! the field turns or changes size, the lattice bends and the proposals that no longer fit are
+//! the defects the relaxation then anneals. Where the front leaves a hole wider than a cell of
+//! the grid (a field whose sizes jump), a new front grows from the hole; smaller holes are left
+//! to the population control's fill-rate insertion.
+//!
+//! Sequential and deterministic: one pass over a first-in first-out queue, one grid query per
+//! proposal (six per sample), far fewer distance tests than relaxation dart throwing, whose
+//! rejections dominate its cost.
+
+use super::rng::Rng;
+use super::seeding::{conflicts, long_semi_axis, CellGrid};
+use crate::field::{Tensor, TensorField};
+use glam::DVec2;
+use std::collections::VecDeque;
+
+/// Parameters of lattice seeding.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatticeParams {
+    /// A proposal closer than this (eq. 4) to an accepted sample is rejected.
+    pub rho: f64,
+    /// Angle of the lattice's first row from the ellipse's long axis, measured in the metric's
+    /// own space (radians; the lattice repeats every π/3). The default π/6 puts a row across
+    /// the long axis, ellipses side by side: on a turning 4:1 field it packed to 0.3–0.5 % more
+    /// coverage after relaxation than rows along the long axis (phase 0), tip to tip.
+    pub phase: f64,
+}
+
+impl Default for LatticeParams {
+    fn default() -> Self {
+        LatticeParams {
+            rho: 0.85,
+            phase: std::f64::consts::FRAC_PI_6,
+        }
+    }
+}
+
+/// The samples accepted so far, with the grid that finds their neighbours.
+struct Packing<'a> {
+    metric: &'a TensorField,
+    rho: f64,
+    grid: CellGrid,
+    positions: Vec<DVec2>,
+    inverses: Vec<Tensor>,
+}
+
+impl Packing<'_> {
+    /// Adds a sample at `p` with metric `m` without any test.
+    fn add(&mut self, p: DVec2, m: &Tensor) {
+        let a = long_semi_axis(m);
+        self.grid
+            .insert(self.positions.len() as u32, p, a, self.rho * a);
+        self.positions.push(p);
+        self.inverses.push(m.inverse().unwrap_or_default());
+    }
+
+    /// Adds a sample at `p` unless it is outside the domain or closer than ρ to one already
+    /// there; returns its metric when added.
+    fn try_add(&mut self, p: DVec2) -> Option<Tensor> {
+        let domain = self.metric.domain();
+        if !(p.x > 0.0 && p.y > 0.0 && p.x < domain.x && p.y < domain.y) {
+            return None;
+        }
+        let m = self.metric.sample(p);
+        let inv = m.inverse()?;
+        let a = long_semi_axis(&m);
+        if conflicts(&self.grid, &self.inverses, p, &inv, a, self.rho) {
+            return None;
+        }
+        self.add(p, &m);
+        Some(m)
+    }
+
+    /// Grows the lattice from the samples in `front` until no proposal fits.
+    fn grow(&mut self, front: &mut VecDeque<(DVec2, Tensor)>, phase: f64) {
+        // The six directions relative to the long axis, turned onto it per sample.
+        let turns: [DVec2; 6] = std::array::from_fn(|k| {
+            let (s, c) = (phase + std::f64::consts::FRAC_PI_3 * k as f64).sin_cos();
+            DVec2::new(c, s)
+        });
+        while let Some((p, m)) = front.pop_front() {
+            let axis = long_axis_direction(&m);
+            for turn in turns {
+                let u = axis.rotate(turn);
+                let reach = m.mul_vec(u);
+                // Eq. 4's d = 1 with both ellipses: the second one's radius taken at the guess.
+                let guess = p + 2.0 * reach;
+                let q = p + reach + self.metric.sample(guess).mul_vec(u);
+                if let Some(mq) = self.try_add(q) {
+                    front.push_back((q, mq));
+                }
+            }
+        }
+    }
+}
+
+/// Grows the lattice from a seed near the domain's centre (placed by `rng`) around the `fixed`
+/// boundary samples; where the front leaves a hole larger than a grid cell (the median long
+/// semi-axis), a new front grows from the hole's centre. `expected` (the estimated interior
+/// count) sizes the buffers. Returns the interior positions.
+#[must_use]
+pub fn lattice_seeding(
+    metric: &TensorField,
+    fixed: &[DVec2],
+    expected: usize,
+    params: &LatticeParams,
+    rng: &mut Rng,
+) -> Vec<DVec2> {
+    let mut packing = Packing {
+        metric,
+        rho: params.rho,
+        grid: CellGrid::for_field(metric, fixed.len() + expected),
+        positions: Vec::with_capacity(fixed.len() + expected + expected / 8),
+        inverses: Vec::new(),
+    };
+    packing.inverses.reserve(packing.positions.capacity());
+    for &p in fixed {
+        packing.add(p, &metric.sample(p));
+    }
+    let mut front = VecDeque::new();
+    let domain = metric.domain();
+    let centre = domain * DVec2::new(0.4 + 0.2 * rng.uniform(), 0.4 + 0.2 * rng.uniform());
+    let mut seeds = vec![centre];
+    // A hole that cannot take a seed stays empty; stop when a pass adds nothing.
+    while !seeds.is_empty() {
+        let before = packing.positions.len();
+        for &s in &seeds {
+            if let Some(m) = packing.try_add(s) {
+                front.push_back((s, m));
+                packing.grow(&mut front, params.phase);
+            }
+        }
+        if packing.positions.len() == before {
+            break;
+        }
+        seeds = packing.grid.empty_cells().collect();
+    }
+    packing.positions.split_off(fixed.len())
+}
+
+/// The unit direction of a metric's long axis (x̂ for a circle), without an angle.
+fn long_axis_direction(m: &Tensor) -> DVec2 {
+    let half_diff = 0.5 * (m.xx - m.yy);
+    let radius = (half_diff * half_diff + m.xy * m.xy).sqrt();
+    // (l1 − yy, xy) with l1 − yy = half_diff + radius, or (xy, l1 − xx) when that is tiny.
+    let v = if half_diff >= 0.0 {
+        DVec2::new(half_diff + radius, m.xy)
+    } else {
+        DVec2::new(m.xy, radius - half_diff)
+    };
+    v.try_normalize().unwrap_or(DVec2::X)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::distance::normalised_distance;
+
+    #[test]
+    fn long_axis_direction_matches_the_eigenvector() {
+        for angle in [-1.5, -0.7, 0.0, 0.3, 1.2, 1.57] {
+            let m = Tensor::from_eigen(angle, 5.0, 2.0);
+            let d = long_axis_direction(&m);
+            let e = DVec2::new(f64::cos(angle), f64::sin(angle));
+            assert!(d.dot(e).abs() > 1.0 - 1e-12, "{angle}: {d}");
+        }
+        assert_eq!(long_axis_direction(&Tensor::isotropic(3.0)), DVec2::X);
+    }
+
+    #[test]
+    fn constant_field_grows_the_hexagonal_packing() {
+        let m = Tensor::from_eigen(0.5, 6.0, 2.0);
+        let metric = TensorField::constant(300, 240, m);
+        let estimate = 300.0 * 240.0 / (2.0 * 3f64.sqrt() * 12.0);
+        let params = LatticeParams::default();
+        let mut rng = Rng::new(3, 0);
+        let pts = lattice_seeding(&metric, &[], 1000, &params, &mut rng);
+        // A hexagonal packing has the estimated count, less the half-ellipses cut by the edges.
+        let n = pts.len() as f64;
+        assert!(
+            n > 0.9 * estimate && n < 1.02 * estimate,
+            "{n} vs {estimate}"
+        );
+        // Every sample's nearest neighbour is at d = 1 (touching), up to rounding.
+        let inv = m.inverse().unwrap();
+        for (i, &p) in pts.iter().enumerate().step_by(7) {
+            let nearest = pts
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, &q)| normalised_distance(p, &inv, q, &inv))
+                .fold(f64::INFINITY, f64::min);
+            assert!((nearest - 1.0).abs() < 1e-6, "sample {i}: {nearest}");
+        }
+    }
+
+    #[test]
+    fn nothing_closer_than_rho_in_a_turning_field() {
+        let metric = TensorField::from_fn(200, 150, |p| {
+            Tensor::from_eigen(p.x / 50.0, 3.0 + p.y / 30.0, 2.0)
+        });
+        let params = LatticeParams::default();
+        let pts = lattice_seeding(&metric, &[], 1000, &params, &mut Rng::new(9, 0));
+        // The seams where the bent lattice meets itself hold fewer samples than the packing.
+        let estimate = crate::sampling::seeding::estimate_count(&metric);
+        assert!(
+            pts.len() as f64 > 0.8 * estimate,
+            "{} of {estimate}",
+            pts.len()
+        );
+        let inv: Vec<Tensor> = pts
+            .iter()
+            .map(|&p| metric.sample(p).inverse().unwrap())
+            .collect();
+        for i in 0..pts.len() {
+            for j in 0..i {
+                let d = normalised_distance(pts[i], &inv[i], pts[j], &inv[j]);
+                assert!(d >= params.rho - 1e-9, "{i} {j}: {d}");
+            }
+        }
+    }
+}
