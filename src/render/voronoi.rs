@@ -209,6 +209,30 @@ impl ColourTerm {
         out
     }
 
+    /// The blurred photo's colour at `p` (bilinear), without the derivatives of
+    /// [`Self::colour_at`]: what the owner search needs at every pixel.
+    #[inline]
+    #[must_use]
+    pub fn colour_only_at(&self, p: DVec2) -> [f32; 3] {
+        let (w, h) = (self.photo.width(), self.photo.height());
+        let x = (p.x - 0.5).clamp(0.0, f64::from(w - 1));
+        let y = (p.y - 0.5).clamp(0.0, f64::from(h - 1));
+        let (x0, y0) = (x as usize, y as usize);
+        let x1 = (x0 + 1).min(w as usize - 1);
+        let y1 = (y0 + 1).min(h as usize - 1);
+        let (tx, ty) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
+        let raw = self.photo.as_raw();
+        let (r0, r1) = (3 * y0 * w as usize, 3 * y1 * w as usize);
+        let mut out = [0.0f32; 3];
+        for (k, o) in out.iter_mut().enumerate() {
+            let at = |i: usize| f32::from(raw[i + k]);
+            let top = at(r0 + 3 * x0) + (at(r0 + 3 * x1) - at(r0 + 3 * x0)) * tx;
+            let bottom = at(r1 + 3 * x0) + (at(r1 + 3 * x1) - at(r1 + 3 * x0)) * tx;
+            *o = (top + (bottom - top) * ty) * (1.0 / 255.0);
+        }
+        out
+    }
+
     /// `w·|c − c_i|²`.
     #[inline]
     fn cost(&self, c: [f32; 3], i: u32) -> f64 {
@@ -356,7 +380,7 @@ impl<'a> VoronoiCells<'a> {
         let ((site, d1), (second, d2)) = match self.colour {
             None => nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p)))),
             Some(term) => {
-                let colour = term.colour_at(p)[0];
+                let colour = term.colour_only_at(p);
                 let mut deltas = [(NONE, f64::INFINITY); 6];
                 let mut nearest = f64::INFINITY;
                 for (slot, &c) in deltas.iter_mut().zip(candidates) {
@@ -441,7 +465,7 @@ impl<'a> VoronoiCells<'a> {
         let ((site, d1), (second, d2)) = match self.colour {
             None => nearest_two(sites.map(|i| (i, self.delta(i, p)))),
             Some(term) => {
-                let colour = term.colour_at(p)[0];
+                let colour = term.colour_only_at(p);
                 let nearest = sites
                     .clone()
                     .map(|i| self.delta(i, p))
