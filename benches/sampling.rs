@@ -2,12 +2,16 @@
 //! ≤ 0.15 s and 100 iterations with triangulation updates ≤ 0.15 s; N = 100 k end to end
 //! ≤ 3 s; N = 1 M ≤ 40 s; per-iteration cost linear in N).
 //!
+//! `seeding` compares the lattice seed with the paper's relaxation dart throwing on the photo's
+//! metric and on the rotating 4:1 field the metric meshers are compared on (issue 14, seeding
+//! ten times faster).
+//!
 //! Run: `cargo bench --bench sampling`. Stage times come from the sampler's own stats through
 //! `iter_custom`, so "iterations" excludes seeding. The 1 M case takes about 40 s per run and
 //! is measured only with `ANISOPAINT_BENCH_1M=1`.
 
-use anisopaint::field::{AnalyticField, MetricParams, TensorField};
-use anisopaint::sampling::{self, SamplerParams};
+use anisopaint::field::{AnalyticField, MetricParams, Tensor, TensorField};
+use anisopaint::sampling::{self, SamplerParams, Seeding};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use std::time::Duration;
 
@@ -26,21 +30,56 @@ fn constant_field(n: f64, side: usize) -> TensorField {
         .field(side, side)
 }
 
+/// 4:1 ellipses whose axes turn by π across a `side²` square (the angle grows along x and y),
+/// sized for about `n` samples: the field of `benches/packing.py field rotating`.
+fn rotating_field(n: f64, side: usize) -> TensorField {
+    let b = ((side * side) as f64 / n / (2.0 * 3f64.sqrt()) / 4.0).sqrt();
+    let s = side as f64;
+    TensorField::from_fn(side, side, |p| {
+        let angle = std::f64::consts::PI * (0.6 * p.x / s + 0.4 * p.y / s);
+        Tensor::from_eigen(angle, 4.0 * b, b)
+    })
+}
+
 fn stage(
     field: &TensorField,
     pick: fn(&sampling::Stats) -> Duration,
 ) -> impl FnMut(u64) -> Duration + '_ {
+    stage_with(field, SamplerParams::default(), pick)
+}
+
+fn stage_with(
+    field: &TensorField,
+    params: SamplerParams,
+    pick: fn(&sampling::Stats) -> Duration,
+) -> impl FnMut(u64) -> Duration + '_ {
     move |iters| {
         (0..iters)
-            .map(|_| {
-                pick(
-                    &sampling::sample(field, &SamplerParams::default())
-                        .unwrap()
-                        .stats,
-                )
-            })
+            .map(|_| pick(&sampling::sample(field, &params).unwrap().stats))
             .sum()
     }
+}
+
+fn seeding(c: &mut Criterion) {
+    let fields = [
+        ("photo_10k", photo_field(10_000.0)),
+        ("rotating_11k", rotating_field(11_000.0, 1024)),
+    ];
+    let mut g = c.benchmark_group("seeding");
+    g.sample_size(10);
+    for (name, field) in &fields {
+        for method in [Seeding::Lattice, Seeding::Darts] {
+            let params = SamplerParams {
+                seeding: method,
+                iterations: 0,
+                ..SamplerParams::default()
+            };
+            g.bench_function(BenchmarkId::new(method.name(), name), |b| {
+                b.iter_custom(stage_with(field, params.clone(), |s| s.seeding_time))
+            });
+        }
+    }
+    g.finish();
 }
 
 fn photo_10k(c: &mut Criterion) {
@@ -92,5 +131,5 @@ fn scaling(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, photo_10k, scaling);
+criterion_group!(benches, seeding, photo_10k, scaling);
 criterion_main!(benches);

@@ -4,9 +4,9 @@
 //!
 //! Order of work in [`sample`]:
 //! 1. [`boundary`]: fixed corner and edge samples;
-//! 2. the interior's seed: a metric-aligned hexagonal lattice grown as a front ([`lattice`],
-//!    the default), or the paper's relaxation dart throwing up to the estimated count
-//!    ([`seeding`]);
+//! 2. the interior's seed: the paper's relaxation dart throwing up to the estimated count
+//!    ([`seeding`], the default), or a metric-aligned hexagonal lattice grown as a front
+//!    ([`lattice`]);
 //! 3. [`delaunay`]: the anisotropic Delaunay triangulation, whose one-rings are the only
 //!    neighbours a particle feels;
 //! 4. iterations of the force spline ([`force`]) with Euler integration of eq. 5 (Δt = 0.2,
@@ -205,8 +205,11 @@ pub fn sample_observed(
                 // which must still be a valid triangulation of the moved particles.
                 if !mesh.is_valid_at(&particles.positions) {
                     mesh = rebuild(&mut particles, field, &mut stats);
+                    drop(std::mem::take(&mut edges));
+                    edges = mesh.edges(particles.positions.len());
                 }
-                control_population(mesh, &mut particles, field, params, &mut stats)
+                // `edges` are the current mesh's: the relaxation moves particles, not edges.
+                control_population(mesh, &edges, &mut particles, field, params, &mut stats)
             };
             // The old edges go before the new ones are built (tens of MB each).
             drop(std::mem::take(&mut edges));

@@ -51,16 +51,18 @@ pub struct SamplerParams {
     pub seeding: Seeding,
     /// Lattice seeding.
     pub lattice: LatticeParams,
-    /// Relaxation dart throwing (also fills what lattice seeding leaves empty).
+    /// Relaxation dart throwing.
     pub darts: DartParams,
 }
 
 /// How the interior samples are seeded before the relaxation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Seeding {
-    /// A metric-aligned hexagonal lattice grown as a front ([`lattice`](super::lattice)).
+    /// A metric-aligned hexagonal lattice grown as a front ([`lattice`](super::lattice)):
+    /// tight, fast packings of smooth fields; around singular points its seams overlap more
+    /// than darts do.
     Lattice,
-    /// The paper's relaxation dart throwing ([`seeding`](super::seeding)).
+    /// The paper's relaxation dart throwing ([`seeding`](super::seeding)), the default.
     Darts,
 }
 
@@ -104,7 +106,7 @@ impl Default for SamplerParams {
             delete_pressure: 0.3,
             tolerance: 1e-3,
             max_samples: DEFAULT_MAX_SAMPLES,
-            seeding: Seeding::Lattice,
+            seeding: Seeding::Darts,
             lattice: LatticeParams::default(),
             darts: DartParams::default(),
         }

@@ -73,20 +73,20 @@ pub(super) fn repair(
     mesh
 }
 
-/// Inserts into poorly filled triangles and deletes overcrowded samples, and returns the
-/// triangulation of the new population: insertions split their triangle in place (then
-/// Lawson flips), deletions need a new triangulation.
+/// Inserts into poorly filled triangles and deletes overcrowded samples (`edges` are `mesh`'s),
+/// and returns the triangulation of the new population: insertions split their triangle in
+/// place (then Lawson flips), deletions need a new triangulation.
 pub(super) fn control_population(
     mut mesh: AnisotropicDelaunay,
+    edges: &Edges,
     particles: &mut Particles,
     field: &TensorField,
     params: &SamplerParams,
     stats: &mut Stats,
 ) -> AnisotropicDelaunay {
     let t = Instant::now();
-    let edges = mesh.edges(particles.positions.len());
-    let pressure = population::pressures(&particles.positions, &particles.metrics, &edges);
-    let gone = population::deletions(&pressure, particles.fixed, &edges, params.delete_pressure);
+    let pressure = population::pressures(&particles.positions, &particles.metrics, edges);
+    let gone = population::deletions(&pressure, particles.fixed, edges, params.delete_pressure);
     let new = population::insertion_points(
         &mesh,
         &particles.positions,
