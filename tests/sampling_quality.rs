@@ -6,7 +6,7 @@
 use anisopaint::field::{self, AnalyticField, Tensor, TensorField};
 use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::sampling::{
-    self, quality, rng::Rng, seeding, AnisotropicDelaunay, SamplerParams, Sampling,
+    self, quality, rng::Rng, seeding, AnisotropicDelaunay, SamplerParams, Sampling, Seeding,
 };
 use glam::DVec2;
 use std::collections::BTreeSet;
@@ -302,5 +302,35 @@ fn tiny_domains_work() {
         let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
         assert!(s.positions.len() >= 4, "{w}x{h}");
         assert!(s.positions.iter().all(|p| p.is_finite()));
+    }
+}
+
+/// The lattice seed on constant fields, measured by brute force: close to the hexagonal
+/// packing (coverage 0.907, no overlap) after relaxation, with the estimated count once the
+/// boundary's half-ellipses are counted as halves, and no nearest neighbour much closer than
+/// touching. Measured on 700×600 at 2:1 and 4:1, several angles: coverage 0.894-0.903,
+/// overlap 0.6-0.95 %, p5 0.910-0.929 (darts on the same fields: coverage 0.870-0.879, p5
+/// 0.918-0.934; the 5th percentile sits among the samples next to the fixed boundary).
+#[test]
+fn lattice_seed_packs_constant_fields_nearly_hexagonally() {
+    for (anisotropy, angle) in [(2.0, 20.0), (4.0, -35.0)] {
+        let spec = format!("constant:anisotropy={anisotropy},angle={angle},size=0.01");
+        let field = analytic(&spec, 700, 600);
+        let params = SamplerParams {
+            seeding: Seeding::Lattice,
+            ..SamplerParams::default()
+        };
+        let s = sampling::sample(&field, &params).unwrap();
+        check_inside(&s, &field);
+        let q = evaluate(&s, &field);
+        assert!(q.coverage >= 0.89, "{spec}: coverage {}", q.coverage);
+        assert!(q.overlap <= 0.01, "{spec}: overlap {}", q.overlap);
+        assert!(q.nn_p5 >= 0.9, "{spec}: p5 {}", q.nn_p5);
+        let effective = (s.positions.len() - s.fixed) as f64 + 0.5 * s.fixed as f64;
+        let estimate = seeding::estimate_count(&field);
+        assert!(
+            (effective / estimate - 1.0).abs() <= 0.05,
+            "{spec}: {effective} of {estimate}"
+        );
     }
 }
