@@ -53,18 +53,18 @@ for w in "${what[@]}"; do
     "$PYTHON" "$packing" field rotating rot.npy
     "$PYTHON" "$packing" bamg-inputs rot.npy .
     read -r ours ours_mb < <(timed "$bin" sample rot.npy -q --out ours.csv)
-    read -r lat lat_mb < <(timed "$bin" sample rot.npy -q --out lattice.csv --set sampler.seeding=lattice)
+    read -r lat lat_mb < <(timed "$bin" sample rot.npy -q --out lattice.csv --set sampler.seeding=darts)
     read -r bamg bamg_mb < <(timed ffbamg -b bg.mesh -M bg.mtr -o bamg.mesh)
     "$PYTHON" "$packing" bamg-samples bamg.mesh rot.npy bamg.csv
     echo "rotating 4:1 field, 11 000 ellipses, median wall of $RUNS"
     echo "  anisopaint sample: $ours s, $ours_mb MB; $("$PYTHON" "$packing" eval ours.csv rot.npy)"
-    echo "  ... lattice seed:  $lat s, $lat_mb MB; $("$PYTHON" "$packing" eval lattice.csv rot.npy)"
+    echo "  ... darts seed:    $lat s, $lat_mb MB; $("$PYTHON" "$packing" eval lattice.csv rot.npy)"
     echo "  BAMG (ffbamg):     $bamg s, $bamg_mb MB; $("$PYTHON" "$packing" eval bamg.csv rot.npy)"
     echo "  ratio ours / BAMG: $(echo "scale=2; $ours / $bamg" | bc)"
     ;;
   million)
     "$PYTHON" "$packing" field constant2 c2.npy --side 4096
-    for seeding in darts lattice; do
+    for seeding in auto darts; do
       RUNS=1 timed "$bin" sample c2.npy -q --out c2.csv --set sampler.seeding=$seeding >m.txt
       read -r wall mb <m.txt
       echo "1 M samples (4096², constant 2:1), $seeding: $wall s, $mb MB peak; $("$PYTHON" "$packing" eval c2.csv c2.npy --nn-only)"

@@ -28,7 +28,10 @@ use std::collections::VecDeque;
 /// Parameters of lattice seeding.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatticeParams {
-    /// A proposal closer than this (eq. 4) to an accepted sample is rejected.
+    /// A proposal closer than this (eq. 4) to an accepted sample is rejected. At 0.95 the
+    /// seams where the bent lattice meets itself are seeded a little sparser than at 0.85:
+    /// around the singular point of the `circular` field (670 samples) the final overlap fell
+    /// from 1.9–2.5 % to 1.7–1.8 %, while coverage on smooth fields moved by 0.2 % at most.
     pub rho: f64,
     /// Angle of the lattice's first row from the ellipse's long axis, measured in the metric's
     /// own space (radians; the lattice repeats every π/3). The default π/6 puts a row across
@@ -40,7 +43,7 @@ pub struct LatticeParams {
 impl Default for LatticeParams {
     fn default() -> Self {
         LatticeParams {
-            rho: 0.85,
+            rho: 0.95,
             phase: std::f64::consts::FRAC_PI_6,
         }
     }
@@ -212,10 +215,12 @@ mod tests {
         });
         let params = LatticeParams::default();
         let pts = lattice_seeding(&metric, &[], 1000, &params, &mut Rng::new(9, 0));
-        // The seams where the bent lattice meets itself hold fewer samples than the packing.
+        // The seams where the bent lattice meets itself hold fewer samples than the packing
+        // (this field turns by a radian every 50 px: 78 % of the estimate at ρ = 0.95), but the
+        // front reaches the whole domain.
         let estimate = crate::sampling::seeding::estimate_count(&metric);
         assert!(
-            pts.len() as f64 > 0.8 * estimate,
+            pts.len() as f64 > 0.7 * estimate,
             "{} of {estimate}",
             pts.len()
         );

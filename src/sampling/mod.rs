@@ -4,9 +4,9 @@
 //!
 //! Order of work in [`sample`]:
 //! 1. [`boundary`]: fixed corner and edge samples;
-//! 2. the interior's seed: the paper's relaxation dart throwing up to the estimated count
-//!    ([`seeding`], the default), or a metric-aligned hexagonal lattice grown as a front
-//!    ([`lattice`]);
+//! 2. the interior's seed: a metric-aligned hexagonal lattice grown as a front ([`lattice`]),
+//!    by default from [`params::LATTICE_FROM_COUNT`] estimated samples up, or the paper's
+//!    relaxation dart throwing up to the estimated count ([`seeding`]);
 //! 3. [`delaunay`]: the anisotropic Delaunay triangulation, whose one-rings are the only
 //!    neighbours a particle feels;
 //! 4. iterations of the force spline ([`force`]) with Euler integration of eq. 5 (Δt = 0.2,
@@ -161,8 +161,13 @@ pub fn sample_observed(
     let mut rng = rng::Rng::new(params.seed, 0);
     let fixed = boundary::boundary_samples(field, &mut rng);
     let target = (estimate - fixed.len() as f64).round().max(0.0) as usize;
-    let (interior, rho) = match params.seeding {
-        Seeding::Darts => {
+    let seeding = match params.seeding {
+        Seeding::Auto if estimate >= params::LATTICE_FROM_COUNT => Seeding::Lattice,
+        Seeding::Auto => Seeding::Darts,
+        chosen => chosen,
+    };
+    let (interior, rho) = match seeding {
+        Seeding::Darts | Seeding::Auto => {
             seeding::relaxation_dart_throwing(field, &fixed, target, &params.darts, &mut rng)
         }
         Seeding::Lattice => {

@@ -99,7 +99,7 @@ impl Preset {
     }
 
     /// The sampler parameters: `sampler.iterations` 0 to [`MAX_ITERATIONS`], any seed,
-    /// `sampler.seeding` "darts" (the default) or "lattice".
+    /// `sampler.seeding` "auto" (the default), "lattice" or "darts".
     pub fn sampler(&self) -> Result<SamplerParams> {
         let s = &self.file.sampler;
         let d = SamplerParams::default();

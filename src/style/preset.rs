@@ -72,7 +72,8 @@ pub struct SamplerSection {
     pub iterations: Option<usize>,
     /// Seed.
     pub seed: Option<u64>,
-    /// "lattice" (a metric-aligned hexagonal lattice grown as a front) or "darts" (the
+    /// "auto" (lattice for large fields, darts for small), "lattice" (a metric-aligned
+    /// hexagonal lattice grown as a front) or "darts" (the
     /// paper's relaxation dart throwing).
     pub seeding: Option<String>,
 }
