@@ -1,8 +1,9 @@
 //! `anisopaint batch` through the real binary: good files painted, bad ones listed with their
 //! cause and exit 1, folder structure kept, resumed runs skip what exists, `--force` redoes,
-//! shards partition the work, a batch killed midway (SIGKILL) completes on a rerun with no
-//! damaged outputs, nothing painted twice and without the temporary files the killed run left, and an output folder that
-//! cannot be written stops the batch before any painting.
+//! shards partition the work (also three at once under GNU parallel), a batch killed midway
+//! (SIGKILL) completes on a rerun with no damaged outputs, nothing painted twice and without
+//! the temporary files the killed run left, and an output folder that cannot be written stops
+//! the batch before any painting.
 
 mod common;
 
@@ -301,4 +302,86 @@ fn gif_bmp_and_pnm_photos_in_a_folder_are_painted() {
         let img = image::open(out.join(name)).unwrap();
         assert_eq!((img.width(), img.height()), (451, 300), "{name}");
     }
+}
+
+/// Three shards of one batch run at the same time, as `parallel anisopaint batch … --shard
+/// {}/3 ::: 1 2 3` runs them (the command `anisopaint batch --help` suggests): together they
+/// paint every file exactly once and nothing else. With GNU parallel (Debian package
+/// `parallel`, which CI installs) when it is there; otherwise the three processes are started
+/// side by side here, which is what parallel does.
+#[test]
+fn concurrent_shards_paint_every_file_exactly_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(&input).unwrap();
+    let sources = [
+        "samples/chelsea.png",
+        "samples/coffee.png",
+        "samples/astronaut.jpg",
+    ];
+    let mut names = Vec::new();
+    for k in 0..7 {
+        let from = sources[k % sources.len()];
+        let ext = Path::new(from).extension().unwrap().to_str().unwrap();
+        let name = format!("p{k}");
+        std::fs::copy(from, input.join(format!("{name}.{ext}"))).unwrap();
+        names.push(name);
+    }
+    let out = dir.path().join("out");
+    let exe = assert_cmd::cargo::cargo_bin("anisopaint");
+    let common_args = |shard: &str| -> Vec<std::ffi::OsString> {
+        let mut a: Vec<std::ffi::OsString> = vec!["batch".into(), input.clone().into_os_string()];
+        for s in ["-s", "mosaic", "--shard", shard, "-o"] {
+            a.push(s.into());
+        }
+        a.push(out.clone().into_os_string());
+        a
+    };
+    let has_parallel = std::process::Command::new("parallel")
+        .arg("--version")
+        .output()
+        .map(|o| o.status.success() && String::from_utf8_lossy(&o.stdout).contains("GNU"))
+        .unwrap_or(false);
+    let stdout = if has_parallel {
+        let mut cmd = std::process::Command::new("parallel");
+        cmd.args(["--will-cite", "-j3", "--halt", "never"])
+            .arg(&exe);
+        cmd.args(common_args("{}/3"));
+        cmd.args([":::", "1", "2", "3"]);
+        let o = cmd.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string()
+    } else {
+        let children: Vec<_> = (1..=3)
+            .map(|i| {
+                std::process::Command::new(&exe)
+                    .args(common_args(&format!("{i}/3")))
+                    .stdout(std::process::Stdio::piped())
+                    .spawn()
+                    .unwrap()
+            })
+            .collect();
+        children
+            .into_iter()
+            .map(|c| {
+                let o = c.wait_with_output().unwrap();
+                assert!(o.status.success());
+                String::from_utf8_lossy(&o.stdout).to_string()
+            })
+            .collect()
+    };
+    // Every shard's summary "N files: N painted, …": the painted counts add up to the files.
+    let painted: usize = stdout
+        .lines()
+        .filter_map(|l| l.split_once(" painted").map(|(head, _)| head))
+        .filter_map(|head| head.rsplit(' ').next()?.parse::<usize>().ok())
+        .sum();
+    assert_eq!(painted, names.len(), "{stdout}");
+    let written: Vec<String> = pngs(&out)
+        .iter()
+        .map(|p| p.file_stem().unwrap().to_string_lossy().to_string())
+        .collect();
+    let mut want: Vec<String> = names.iter().map(|n| format!("{n}.mosaic")).collect();
+    want.sort();
+    assert_eq!(written, want, "parallel: {has_parallel}");
 }
