@@ -30,6 +30,7 @@ fn a_panicking_item_fails_alone_and_gives_its_budget_back() {
             &run_items,
             2,
             true,
+            batch::MEMORY_BUDGET,
             |item| {
                 if item.input.ends_with("big1.png") {
                     panic!("a bug in one painting");

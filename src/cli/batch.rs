@@ -32,9 +32,14 @@ pub(super) struct BatchArgs {
     /// Also paint the images in subfolders.
     #[arg(long)]
     recursive: bool,
-    /// Images painted at once (memory is bounded as well).
+    /// Images painted at once (memory is bounded as well, see --memory).
     #[arg(long, default_value_t = 2)]
     jobs: usize,
+    /// Memory the images painted at once may use together, estimated from their sizes, e.g.
+    /// 800M or 2G: a photo that would exceed it waits for the others (one larger than it runs
+    /// alone).
+    #[arg(long, default_value = "3G")]
+    memory: String,
     /// Paint again over outputs that exist (otherwise they are skipped).
     #[arg(long)]
     force: bool,
@@ -77,6 +82,7 @@ pub(super) fn batch(args: &BatchArgs) -> Result<usize> {
         Some(s) => parse_shard(s)?,
         None => (1, 1),
     };
+    let budget = crate::batch::parse_memory(&args.memory)?;
     let items = plan(
         &args.sources,
         args.recursive,
@@ -96,6 +102,7 @@ pub(super) fn batch(args: &BatchArgs) -> Result<usize> {
         &items,
         args.jobs,
         args.force,
+        budget,
         |item| {
             let input = Input::Photo(item.input.clone());
             let img = crate::paint::paint(&input, &recipe)?;
