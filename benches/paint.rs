@@ -93,6 +93,7 @@ fn batch_benches(c: &mut Criterion) {
                     &items,
                     jobs,
                     true,
+                    batch::MEMORY_BUDGET,
                     |item| {
                         paint_file(&item.input, &preset, &item.output);
                         Ok(())
