@@ -68,6 +68,7 @@ pub fn parse_memory(text: &str) -> Result<u64> {
     };
     let value: f64 = number.trim().parse().map_err(|_| bad())?;
     let bytes = value * scale;
+    // At least a byte, and within u64 (2⁶⁴ ≈ 1.84e19).
     if !(1.0..1.8e19).contains(&bytes) {
         return Err(bad());
     }
@@ -170,9 +171,10 @@ fn collect(
 
 /// Runs `paint` on every item over `jobs` threads, skipping existing outputs unless `force`,
 /// with at most `budget` bytes of estimated memory ([`BYTES_PER_PIXEL`] per input pixel) in
-/// use at once (an item larger than the budget runs alone). `progress` is called after each item with its index, its outcome and
-/// how long it took. An item whose `paint` panics fails with "internal error: …" and gives its
-/// memory back; the others are painted. Returns the outcomes in item order.
+/// use at once (an item larger than the budget runs alone). `progress` is called after each
+/// item with its index, its outcome and how long it took. An item whose `paint` panics fails
+/// with "internal error: …" and gives its memory back; the others are painted. Returns the
+/// outcomes in item order.
 pub fn run<P, F>(
     items: &[Item],
     jobs: usize,

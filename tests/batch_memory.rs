@@ -4,23 +4,14 @@
 
 mod common;
 
-use anisopaint::batch::{self, Item, Outcome};
+use anisopaint::batch::{self, Outcome};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 /// The most paintings that ran at the same time.
 fn most_at_once(budget: u64) -> usize {
     let dir = tempfile::tempdir().unwrap();
-    let items: Vec<Item> = (0..4)
-        .map(|k| {
-            let input = dir.path().join(format!("p{k}.png"));
-            std::fs::write(&input, common::png_header_only(1000, 1000)).unwrap();
-            Item {
-                input,
-                output: dir.path().join(format!("out{k}.png")),
-            }
-        })
-        .collect();
+    let items = common::header_only_items(dir.path(), "p", 4, (1000, 1000));
     let (running, most) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let outcomes = batch::run(
         &items,

@@ -5,23 +5,14 @@
 
 mod common;
 
-use anisopaint::batch::{self, Item, Outcome};
+use anisopaint::batch::{self, Outcome};
 use std::sync::mpsc;
 use std::time::Duration;
 
 #[test]
 fn a_panicking_item_fails_alone_and_gives_its_budget_back() {
     let dir = tempfile::tempdir().unwrap();
-    let items: Vec<Item> = (0..4)
-        .map(|k| {
-            let input = dir.path().join(format!("big{k}.png"));
-            std::fs::write(&input, common::png_header_only(10_000, 10_000)).unwrap();
-            Item {
-                input,
-                output: dir.path().join(format!("out{k}.png")),
-            }
-        })
-        .collect();
+    let items = common::header_only_items(dir.path(), "big", 4, (10_000, 10_000));
     const { assert!(10_000u64 * 10_000 * batch::BYTES_PER_PIXEL > batch::MEMORY_BUDGET) };
     let (done, finished) = mpsc::channel();
     let run_items = items.clone();

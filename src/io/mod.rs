@@ -242,6 +242,11 @@ fn stored_value(b: &[u8], big: bool) -> Option<f32> {
             }
         }
     };
+    finite_f32(v)
+}
+
+/// `v` as `f32` when it is finite and fits.
+fn finite_f32(v: f64) -> Option<f32> {
     (v.is_finite() && v.abs() <= f64::from(f32::MAX)).then_some(v as f32)
 }
 
@@ -292,13 +297,11 @@ fn tensors_fortran(
     let mut data = Vec::with_capacity(w * h);
     for r in 0..h {
         for c in 0..w {
-            let t = [0, 1, 2].map(|k| values[r + h * (c + w * k)]);
-            if t.iter()
-                .any(|v| !v.is_finite() || v.abs() > f64::from(f32::MAX))
-            {
-                return Err((c, r));
+            let t = [0, 1, 2].map(|k| finite_f32(values[r + h * (c + w * k)]));
+            match t {
+                [Some(t11), Some(t12), Some(t22)] => data.push([t11, t12, t22]),
+                _ => return Err((c, r)),
             }
-            data.push(t.map(|v| v as f32));
         }
     }
     Ok(data)

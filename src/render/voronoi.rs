@@ -186,18 +186,7 @@ impl ColourTerm {
     #[inline]
     #[must_use]
     pub fn colour_at(&self, p: DVec2) -> [[f32; 3]; 3] {
-        let (w, h) = (self.photo.width(), self.photo.height());
-        let x = (p.x - 0.5).clamp(0.0, f64::from(w - 1));
-        let y = (p.y - 0.5).clamp(0.0, f64::from(h - 1));
-        let (x0, y0) = (x as u32, y as u32);
-        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
-        let (tx, ty) = ((x - f64::from(x0)) as f32, (y - f64::from(y0)) as f32);
-        let raw = self.photo.as_raw();
-        let texel = |x: u32, y: u32| {
-            let i = 3 * (y as usize * w as usize + x as usize);
-            [raw[i], raw[i + 1], raw[i + 2]].map(|v| f32::from(v) / 255.0)
-        };
-        let (a, b, c, d) = (texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1));
+        let ([a, b, c, d], tx, ty) = self.corners(p);
         let mut out = [[0.0f32; 3]; 3];
         for k in 0..3 {
             let top = a[k] + (b[k] - a[k]) * tx;
@@ -209,28 +198,39 @@ impl ColourTerm {
         out
     }
 
-    /// The blurred photo's colour at `p` (bilinear), without the derivatives of
-    /// [`Self::colour_at`]: what the owner search needs at every pixel.
+    /// The blurred photo's colour at `p` (bilinear), `colour_at(p)[0]` without the derivatives:
+    /// what the owner search needs at every pixel.
     #[inline]
     #[must_use]
     pub fn colour_only_at(&self, p: DVec2) -> [f32; 3] {
+        let ([a, b, c, d], tx, ty) = self.corners(p);
+        std::array::from_fn(|k| {
+            let top = a[k] + (b[k] - a[k]) * tx;
+            let bottom = c[k] + (d[k] - c[k]) * tx;
+            top + (bottom - top) * ty
+        })
+    }
+
+    /// The four texels around `p` (top left, top right, bottom left, bottom right; sRGB in
+    /// [0, 1]) and `p`'s weights across and down between them.
+    #[inline]
+    fn corners(&self, p: DVec2) -> ([[f32; 3]; 4], f32, f32) {
         let (w, h) = (self.photo.width(), self.photo.height());
         let x = (p.x - 0.5).clamp(0.0, f64::from(w - 1));
         let y = (p.y - 0.5).clamp(0.0, f64::from(h - 1));
-        let (x0, y0) = (x as usize, y as usize);
-        let x1 = (x0 + 1).min(w as usize - 1);
-        let y1 = (y0 + 1).min(h as usize - 1);
-        let (tx, ty) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
+        let (x0, y0) = (x as u32, y as u32);
+        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+        let (tx, ty) = ((x - f64::from(x0)) as f32, (y - f64::from(y0)) as f32);
         let raw = self.photo.as_raw();
-        let (r0, r1) = (3 * y0 * w as usize, 3 * y1 * w as usize);
-        let mut out = [0.0f32; 3];
-        for (k, o) in out.iter_mut().enumerate() {
-            let at = |i: usize| f32::from(raw[i + k]);
-            let top = at(r0 + 3 * x0) + (at(r0 + 3 * x1) - at(r0 + 3 * x0)) * tx;
-            let bottom = at(r1 + 3 * x0) + (at(r1 + 3 * x1) - at(r1 + 3 * x0)) * tx;
-            *o = (top + (bottom - top) * ty) * (1.0 / 255.0);
-        }
-        out
+        let texel = |x: u32, y: u32| {
+            let i = 3 * (y as usize * w as usize + x as usize);
+            [raw[i], raw[i + 1], raw[i + 2]].map(|v| f32::from(v) / 255.0)
+        };
+        (
+            [texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1)],
+            tx,
+            ty,
+        )
     }
 
     /// `w·|c − c_i|²`.

@@ -413,33 +413,6 @@ impl AnisotropicDelaunay {
         }
         Ok(())
     }
-
-    /// Mean quality `4√3·A / Σ l²` (1 for equilateral) of the triangles in the metric of their
-    /// barycentre, and the number of triangles.
-    #[must_use]
-    pub fn mean_quality(&self, points: &[DVec2], metric: &TensorField) -> f64 {
-        let mut sum = 0.0;
-        let mut n = 0usize;
-        for [a, b, c] in self.triangles() {
-            let (a, b, c) = (points[a as usize], points[b as usize], points[c as usize]);
-            let q = (a + b + c) / 3.0;
-            let Some(inv) = metric.sample(q).inverse() else {
-                continue;
-            };
-            let (a, b, c) = (inv.mul_vec(a), inv.mul_vec(b), inv.mul_vec(c));
-            let area = 0.5 * (b - a).perp_dot(c - a).abs();
-            let l2 = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
-            if l2 > 0.0 {
-                sum += 4.0 * 3f64.sqrt() * area / l2;
-                n += 1;
-            }
-        }
-        if n == 0 {
-            0.0
-        } else {
-            sum / n as f64
-        }
-    }
 }
 
 /// Twins by matching each half-edge a→b with the half-edge b→a among b's outgoing half-edges.

@@ -224,15 +224,6 @@ mod tests {
             "{} of {estimate}",
             pts.len()
         );
-        let inv: Vec<Tensor> = pts
-            .iter()
-            .map(|&p| metric.sample(p).inverse().unwrap())
-            .collect();
-        for i in 0..pts.len() {
-            for j in 0..i {
-                let d = normalised_distance(pts[i], &inv[i], pts[j], &inv[j]);
-                assert!(d >= params.rho - 1e-9, "{i} {j}: {d}");
-            }
-        }
+        crate::sampling::seeding::tests::assert_no_pair_closer(&metric, &pts, params.rho);
     }
 }

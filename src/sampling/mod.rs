@@ -136,6 +136,13 @@ fn sampling_field(field: &TensorField) -> std::borrow::Cow<'_, TensorField> {
     }
 }
 
+/// Replaces `edges` with `mesh`'s, dropping the old ones first: at a million samples each set
+/// is tens of megabytes.
+fn renew_edges(edges: &mut Edges, mesh: &AnisotropicDelaunay, vertices: usize) {
+    drop(std::mem::take(edges));
+    *edges = mesh.edges(vertices);
+}
+
 /// Runs the whole sampler on `field` (a metric). Fails before any work when the metric has
 /// unusable ellipses or needs more than `params.max_samples` samples.
 pub fn sample(full_field: &TensorField, params: &SamplerParams) -> Result<Sampling> {
@@ -210,20 +217,16 @@ pub fn sample_observed(
                 // which must still be a valid triangulation of the moved particles.
                 if !mesh.is_valid_at(&particles.positions) {
                     mesh = rebuild(&mut particles, field, &mut stats);
-                    drop(std::mem::take(&mut edges));
-                    edges = mesh.edges(particles.positions.len());
+                    renew_edges(&mut edges, &mesh, particles.positions.len());
                 }
                 // `edges` are the current mesh's: the relaxation moves particles, not edges.
                 control_population(mesh, &edges, &mut particles, field, params, &mut stats)
             };
-            // The old edges go before the new ones are built (tens of MB each).
-            drop(std::mem::take(&mut edges));
-            edges = mesh.edges(particles.positions.len());
+            renew_edges(&mut edges, &mesh, particles.positions.len());
             fresh = true;
         } else if drift > REPAIR_DRIFT {
             mesh = repair(mesh, &mut particles, field, &mut stats);
-            drop(std::mem::take(&mut edges));
-            edges = mesh.edges(particles.positions.len());
+            renew_edges(&mut edges, &mesh, particles.positions.len());
             fresh = true;
         }
         let t = Instant::now();

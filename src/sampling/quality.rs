@@ -81,7 +81,7 @@ pub fn measure(
     q.count = positions.len();
     q.coverage = coverage;
     q.overlap = overlap;
-    q.triangle_quality = mesh.mean_quality(positions, field);
+    q.triangle_quality = mean_triangle_quality(mesh, positions, field);
     q
 }
 
@@ -94,6 +94,37 @@ pub fn brute_force_nearest(positions: &[DVec2], metrics: &[Tensor]) -> Vec<f64> 
         .collect();
     let all: Vec<u32> = (0..positions.len() as u32).collect();
     nearest_distances(positions, &inverses, |_| all.clone())
+}
+
+/// Mean quality `4√3·A / Σ l²` (1 for equilateral) of `mesh`'s triangles in the metric of
+/// their barycentre.
+#[must_use]
+pub fn mean_triangle_quality(
+    mesh: &AnisotropicDelaunay,
+    points: &[DVec2],
+    metric: &TensorField,
+) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for [a, b, c] in mesh.triangles() {
+        let (a, b, c) = (points[a as usize], points[b as usize], points[c as usize]);
+        let q = (a + b + c) / 3.0;
+        let Some(inv) = metric.sample(q).inverse() else {
+            continue;
+        };
+        let (a, b, c) = (inv.mul_vec(a), inv.mul_vec(b), inv.mul_vec(c));
+        let area = 0.5 * (b - a).perp_dot(c - a).abs();
+        let l2 = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
+        if l2 > 0.0 {
+            sum += 4.0 * 3f64.sqrt() * area / l2;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        sum / n as f64
+    }
 }
 
 /// Min, 5th percentile, median and mean of nearest-neighbour distances.

@@ -169,10 +169,9 @@ pub(super) fn relax_once(
     let (positions_now, metrics_now, motion_now): (&[DVec2], &[Tensor], &[u8]) =
         (positions, metrics, motion);
     if edge_forces.len() != edges.ends.len() {
-        // Exactly: a million particles have three million edges.
-        *edge_forces = Vec::new();
-        edge_forces.reserve_exact(edges.ends.len());
-        edge_forces.resize(edges.ends.len(), DVec2::ZERO);
+        // A new, exact buffer: a million particles have three million edges, and a grown one
+        // would double.
+        *edge_forces = vec![DVec2::ZERO; edges.ends.len()];
     }
     edge_forces
         .par_iter_mut()

@@ -418,7 +418,7 @@ impl DensitySampler {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     #[test]
@@ -451,11 +451,19 @@ mod tests {
         let params = DartParams::default();
         let (pts, rho) = relaxation_dart_throwing(&metric, &[], 2000, &params, &mut Rng::new(9, 0));
         assert!(pts.len() > 300);
+        assert_no_pair_closer(&metric, &pts, rho);
+    }
+
+    /// Brute force over all pairs: no two of `pts` closer than `rho` (eq. 4).
+    pub(in crate::sampling) fn assert_no_pair_closer(
+        metric: &TensorField,
+        pts: &[DVec2],
+        rho: f64,
+    ) {
         let inv: Vec<Tensor> = pts
             .iter()
             .map(|&p| metric.sample(p).inverse().unwrap())
             .collect();
-        // Brute force over all pairs: nothing closer than the final ρ.
         for i in 0..pts.len() {
             for j in 0..i {
                 let d = normalised_distance(pts[i], &inv[i], pts[j], &inv[j]);

@@ -54,6 +54,17 @@ fn colour(key: &str, v: &str) -> Result<[u8; 3]> {
     Ok([byte(0)?, byte(2)?, byte(4)?])
 }
 
+/// The value of a key that takes one of `names`, or an error naming the key and the choices.
+fn named<T>(
+    key: &str,
+    name: &str,
+    lookup: impl Fn(&str) -> Option<T>,
+    names: &[&str],
+) -> Result<T> {
+    lookup(name)
+        .ok_or_else(|| Error::param(key, format!("{name}: expected one of {}", names.join(", "))))
+}
+
 /// `value`, or `default` when the preset leaves it out, checked against `[lo, hi]`: NaN and
 /// values outside are errors naming the key, the value and the range (a preset's numbers are
 /// never clamped in silence).
@@ -105,12 +116,7 @@ impl Preset {
         let d = SamplerParams::default();
         let seeding = match s.seeding.as_deref() {
             None => d.seeding,
-            Some(name) => Seeding::named(name).ok_or_else(|| {
-                Error::param(
-                    "sampler.seeding",
-                    format!("{name}: expected one of {}", Seeding::NAMES.join(", ")),
-                )
-            })?,
+            Some(name) => named("sampler.seeding", name, Seeding::named, &Seeding::NAMES)?,
         };
         Ok(SamplerParams {
             iterations: ranged(
@@ -133,12 +139,7 @@ impl Preset {
         let d = CellParams::default();
         let kind = match l.cells.as_deref() {
             None => d.kind,
-            Some(name) => CellKind::named(name).ok_or_else(|| {
-                Error::param(
-                    "look.cells",
-                    format!("{name}: expected one of {}", CellKind::NAMES.join(", ")),
-                )
-            })?,
+            Some(name) => named("look.cells", name, CellKind::named, &CellKind::NAMES)?,
         };
         let colour_weight = ranged(
             "look.colour_weight",
@@ -190,12 +191,7 @@ impl Preset {
     pub fn look(&self) -> Result<Look> {
         let l = &self.file.look;
         let kind = l.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
-        let mut look = Look::named(kind).ok_or_else(|| {
-            Error::param(
-                "look.kind",
-                format!("{kind}: expected one of {}", Look::NAMES.join(", ")),
-            )
-        })?;
+        let mut look = named("look.kind", kind, Look::named, &Look::NAMES)?;
         // Keys of the other kinds are ignored but checked all the same, so a bad value is
         // an error now rather than when the preset switches kind.
         for other in ["mosaic", "hatch", "glyphs", "fabric", "engraving"] {

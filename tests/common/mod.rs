@@ -106,3 +106,23 @@ pub fn make_unreadable(path: &std::path::Path) -> bool {
 pub fn stderr_of(run: &assert_cmd::assert::Assert) -> String {
     String::from_utf8_lossy(&run.get_output().stderr).to_string()
 }
+
+/// `n` batch items in `dir`, `{stem}{k}.png` holding only a PNG header that claims `w × h`
+/// pixels (what the batch's memory estimate reads), painted to `out{k}.png`.
+pub fn header_only_items(
+    dir: &std::path::Path,
+    stem: &str,
+    n: usize,
+    (w, h): (u32, u32),
+) -> Vec<anisopaint::batch::Item> {
+    (0..n)
+        .map(|k| {
+            let input = dir.join(format!("{stem}{k}.png"));
+            std::fs::write(&input, png_header_only(w, h)).unwrap();
+            anisopaint::batch::Item {
+                input,
+                output: dir.join(format!("out{k}.png")),
+            }
+        })
+        .collect()
+}
