@@ -17,6 +17,7 @@
 use super::pieces::one_piece;
 use super::raster::{owner_map, pixel_sums, Raster};
 use super::voronoi::{CellMap, ColourTerm, VoronoiCells};
+use crate::field::blur::gaussian_blur_u8_parallel;
 use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
@@ -232,21 +233,20 @@ impl CellSites {
     }
 }
 
-/// `photo` as sRGB bytes, blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0), one
-/// channel at a time so that only one float plane is held.
+/// `photo` as sRGB bytes, blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0), all
+/// channels at once in bands of rows ([`gaussian_blur_u8_parallel`]).
 fn blurred(photo: &DynamicImage, sigma: f32) -> image::RgbImage {
-    let mut rgb = photo.to_rgb8();
-    if sigma > 0.0 {
-        let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-        for channel in 0..3 {
-            let mut plane: Vec<f32> = rgb.pixels().map(|p| f32::from(p.0[channel])).collect();
-            crate::field::blur::gaussian_blur_parallel_mut(&mut plane, w, h, 1, sigma);
-            for (p, v) in rgb.pixels_mut().zip(plane) {
-                p.0[channel] = v.round().clamp(0.0, 255.0) as u8;
-            }
+    let converted;
+    let rgb = match photo.as_rgb8() {
+        Some(rgb) => rgb,
+        None => {
+            converted = photo.to_rgb8();
+            &converted
         }
-    }
-    rgb
+    };
+    let (w, h) = (rgb.width(), rgb.height());
+    let data = gaussian_blur_u8_parallel(rgb.as_raw(), w as usize, h as usize, 3, sigma);
+    image::RgbImage::from_raw(w, h, data).expect("w·h RGB pixels")
 }
 
 /// Whether `p` lies on the domain's boundary (the sampler's fixed samples).
