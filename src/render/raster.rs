@@ -5,7 +5,7 @@
 //! pixels' [`Owner`]s, band by band, so memory stays a few rows deep whatever the image size.
 //! [`owner_map`] and [`label_map`] keep the owners themselves. Positions are `f64`.
 
-use super::voronoi::{Owner, VoronoiCells, NONE};
+use super::voronoi::{CellMap, Owner, VoronoiCells, NONE};
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -212,8 +212,9 @@ pub fn owner_map(cells: &VoronoiCells, raster: &Raster) -> Vec<u32> {
 /// owners are searched at the centres of `s × s` pixel blocks and the block's pixels go to
 /// that owner, `s` the largest of 2 to `max_stride` that still leaves 64 blocks per cell on
 /// average: every pixel counts, far fewer owner searches, and only pixels next to a border
-/// can land in the neighbouring cell. Sums run in fixed row blocks added in order, so the
-/// result does not depend on the thread count.
+/// can land in the neighbouring cell. Cells whose colour term holds a [`CellMap`] of these
+/// pixels are summed from it, exactly and without a search. Sums run in fixed row blocks added
+/// in order, so the result does not depend on the thread count.
 pub fn pixel_sums<const N: usize, F>(
     cells: &VoronoiCells,
     width: usize,
@@ -225,6 +226,11 @@ where
     F: Fn(usize, usize) -> [f64; N] + Sync,
 {
     let n = cells.positions().len();
+    if let Some(map) = cells.colour().and_then(|term| term.map.as_ref()) {
+        if map.size() == (width, height) {
+            return mapped_sums(map, n, value);
+        }
+    }
     let per_cell = (width * height) as f64 / n.max(1) as f64;
     let stride = if per_cell >= 64.0 {
         ((per_cell / 64.0).sqrt() as usize).clamp(2, max_stride.max(2))
@@ -264,6 +270,40 @@ where
             sums
         })
         .collect();
+    add_in_order(partial, n)
+}
+
+/// [`pixel_sums`] over cells whose owners `map` already holds pixel by pixel (edge-following
+/// cells once their pieces are joined): every pixel to its exact cell, no owner search.
+fn mapped_sums<const N: usize, F>(map: &CellMap, n: usize, value: F) -> Vec<[f64; N]>
+where
+    F: Fn(usize, usize) -> [f64; N] + Sync,
+{
+    let (width, height) = map.size();
+    let block_rows = height.div_ceil(SUM_BLOCKS).max(1);
+    let partial: Vec<Vec<[f64; N]>> = (0..height.div_ceil(block_rows))
+        .into_par_iter()
+        .map(|block| {
+            let mut sums = vec![[0.0f64; N]; n];
+            for y in block * block_rows..((block + 1) * block_rows).min(height) {
+                for x in 0..width {
+                    let o = map.cell(y * width + x);
+                    if o == NONE {
+                        continue;
+                    }
+                    for (acc, v) in sums[o as usize].iter_mut().zip(value(x, y)) {
+                        *acc += v;
+                    }
+                }
+            }
+            sums
+        })
+        .collect();
+    add_in_order(partial, n)
+}
+
+/// The sum of per-block sums, added block by block in order (the same at any thread count).
+fn add_in_order<const N: usize>(partial: Vec<Vec<[f64; N]>>, n: usize) -> Vec<[f64; N]> {
     let mut total = vec![[0.0f64; N]; n];
     for block in partial {
         for (t, s) in total.iter_mut().zip(block) {
@@ -331,5 +371,37 @@ mod tests {
             let rate = agree as f64 / (w * h) as f64;
             assert!(rate >= 0.995, "{w}x{h}: {rate}");
         }
+    }
+
+    #[test]
+    fn sums_over_a_cell_map_count_every_pixel_for_its_cell() {
+        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.05")
+            .unwrap()
+            .field(60, 40);
+        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        let raster = Raster {
+            width: 60,
+            height: 40,
+            supersample: 1,
+            domain: field.domain(),
+        };
+        let mut owners = owner_map(
+            &VoronoiCells::new(&s.positions, &s.metrics, &s.mesh),
+            &raster,
+        );
+        // Pixel 0 changes cell, as an absorbed piece does.
+        let new_owner = owners[59];
+        owners[0] = new_owner | CellMap::ABSORBED;
+        let mut expected = vec![0.0; s.positions.len()];
+        for &o in &owners {
+            expected[(o & !CellMap::ABSORBED) as usize] += 1.0;
+        }
+        let mut term = super::super::voronoi::ColourTerm::new(image::RgbImage::new(60, 40), 1.0);
+        term.means = vec![[0.0; 3]; s.positions.len()];
+        term.map = Some(CellMap::new(60, 40, owners));
+        let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh).with_colour(&term);
+        let sums = pixel_sums(&cells, 60, 40, 8, |_, _| [1.0]);
+        let counts: Vec<f64> = sums.iter().map(|s| s[0]).collect();
+        assert_eq!(counts, expected);
     }
 }

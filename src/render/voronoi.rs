@@ -128,6 +128,22 @@ impl CellMap {
         }
     }
 
+    /// Width and height in pixels.
+    #[must_use]
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// The cell of pixel `k` (row-major), absorbed or not; [`NONE`] where no site owns it.
+    #[inline]
+    #[must_use]
+    pub fn cell(&self, k: usize) -> u32 {
+        match self.owners[k] {
+            NONE => NONE,
+            o => o & !Self::ABSORBED,
+        }
+    }
+
     /// The pixel holding `p`, if inside.
     #[inline]
     fn pixel(&self, p: DVec2) -> Option<usize> {
@@ -199,10 +215,16 @@ impl ColourTerm {
     }
 
     /// The blurred photo's colour at `p` (bilinear), `colour_at(p)[0]` without the derivatives:
-    /// what the owner search needs at every pixel.
+    /// what the owner search needs at every pixel. At a pixel centre (every raster point of a
+    /// picture at the photo's own size) that is the pixel's own texel, read alone.
     #[inline]
     #[must_use]
     pub fn colour_only_at(&self, p: DVec2) -> [f32; 3] {
+        let (x, y) = self.texel_position(p);
+        let (x0, y0) = (x as u32, y as u32);
+        if f64::from(x0) == x && f64::from(y0) == y {
+            return self.texel(x0, y0);
+        }
         let ([a, b, c, d], tx, ty) = self.corners(p);
         std::array::from_fn(|k| {
             let top = a[k] + (b[k] - a[k]) * tx;
@@ -211,23 +233,40 @@ impl ColourTerm {
         })
     }
 
+    /// `p` in texel coordinates (texel centres at whole numbers), clamped to the photo.
+    #[inline]
+    fn texel_position(&self, p: DVec2) -> (f64, f64) {
+        let (w, h) = (self.photo.width(), self.photo.height());
+        (
+            (p.x - 0.5).clamp(0.0, f64::from(w - 1)),
+            (p.y - 0.5).clamp(0.0, f64::from(h - 1)),
+        )
+    }
+
+    /// Texel (`x`, `y`), sRGB in [0, 1].
+    #[inline]
+    fn texel(&self, x: u32, y: u32) -> [f32; 3] {
+        let i = 3 * (y as usize * self.photo.width() as usize + x as usize);
+        let raw = &self.photo.as_raw()[i..i + 3];
+        [raw[0], raw[1], raw[2]].map(|v| f32::from(v) / 255.0)
+    }
+
     /// The four texels around `p` (top left, top right, bottom left, bottom right; sRGB in
     /// [0, 1]) and `p`'s weights across and down between them.
     #[inline]
     fn corners(&self, p: DVec2) -> ([[f32; 3]; 4], f32, f32) {
         let (w, h) = (self.photo.width(), self.photo.height());
-        let x = (p.x - 0.5).clamp(0.0, f64::from(w - 1));
-        let y = (p.y - 0.5).clamp(0.0, f64::from(h - 1));
+        let (x, y) = self.texel_position(p);
         let (x0, y0) = (x as u32, y as u32);
         let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
         let (tx, ty) = ((x - f64::from(x0)) as f32, (y - f64::from(y0)) as f32);
-        let raw = self.photo.as_raw();
-        let texel = |x: u32, y: u32| {
-            let i = 3 * (y as usize * w as usize + x as usize);
-            [raw[i], raw[i + 1], raw[i + 2]].map(|v| f32::from(v) / 255.0)
-        };
         (
-            [texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1)],
+            [
+                self.texel(x0, y0),
+                self.texel(x1, y0),
+                self.texel(x0, y1),
+                self.texel(x1, y1),
+            ],
             tx,
             ty,
         )
