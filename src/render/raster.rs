@@ -84,10 +84,13 @@ impl VoronoiCells<'_> {
                 let mut tri = vec![NONE; rows_here * width];
                 self.rasterise(&raster, list, first_row, &mut tri);
                 let mut owners = vec![Owner::NOBODY; width];
+                let step = raster.step();
                 for (k, row) in chunk.chunks_mut(row_len).enumerate() {
                     let tris = &tri[k * width..(k + 1) * width];
+                    let y = (((first_row + k) as f64) + 0.5) * step.y;
                     for (x, o) in owners.iter_mut().enumerate() {
-                        let p = raster.point(x, first_row + k);
+                        // `raster.point(x, first_row + k)`, with the step divided out once.
+                        let p = DVec2::new((x as f64 + 0.5) * step.x, y);
                         *o = match triangle_near(tris, x) {
                             Some(t) => self.owner_in_triangle(t, p),
                             None => self.owner_brute_force(p),

@@ -5,14 +5,15 @@
 //! raster ([`super::texture`]) and the SVG ([`super::svg`]) place the same dots. `f64` in
 //! domain units; coverage `f32`.
 
-use super::colour::{salt, site_hash};
+use super::colour::{floor, salt, site_hash};
 use glam::DVec2;
 
 /// Ink coverage (0 to 1) at `local` (domain units in the cell's frame) of the dots of cell
 /// `site`, on a lattice of period `s`, of radius `radius` periods, anti-aliased over a pixel of
 /// `px` domain units.
 pub(super) fn dot_coverage(local: DVec2, site: u32, s: f64, radius: f64, px: f64) -> f32 {
-    let cell = (local / s).floor();
+    let q = local / s;
+    let cell = DVec2::new(floor(q.x), floor(q.y));
     let r = s * radius;
     let mut best: f32 = 0.0;
     // The dot of this lattice cell and of its neighbours (jitter can reach across). A
@@ -20,21 +21,21 @@ pub(super) fn dot_coverage(local: DVec2, site: u32, s: f64, radius: f64, px: f64
     // a neighbour whose whole box is farther than the dot's reach inks nothing here and
     // is not hashed, and a fully inked point looks no further (same result, faster).
     let reach = r + 0.5 * px;
-    let q = local / s;
     // Along each axis, the neighbours at −1 and +1 lie at least 0.2 + f and 1.2 − f
     // periods away (f the point's place in its lattice cell): out of reach, their row
     // or column is skipped whole.
     let (f0, k) = (q - cell, reach / s);
+    let (k_squared, per_px) = (k * k, 1.0 / px);
     let span = |f: f64| (if 0.2 + f < k { -1 } else { 0 })..=(if 1.2 - f < k { 1 } else { 0 });
     for dy in span(f0.y) {
         for dx in span(f0.x) {
             let c = cell + DVec2::new(f64::from(dx), f64::from(dy));
             let nearest = q.clamp(c + DOT_BOX.0, c + DOT_BOX.1);
-            if (q - nearest).length() * s >= reach {
+            if (q - nearest).length_squared() >= k_squared {
                 continue;
             }
             let centre = dot_centre(site, c) * s;
-            let cover = ((r - (local - centre).length()) / px + 0.5).clamp(0.0, 1.0);
+            let cover = ((r - (local - centre).length()) * per_px + 0.5).clamp(0.0, 1.0);
             best = best.max(cover as f32);
             if best >= 1.0 {
                 return best;
@@ -88,7 +89,7 @@ pub(super) fn stipple_radius(cover: f32) -> f64 {
                                     cx as f64 + (i as f64 + 0.5) / points as f64,
                                     cy as f64 + (j as f64 + 0.5) / points as f64,
                                 );
-                                let cell = q.floor();
+                                let cell = DVec2::new(floor(q.x), floor(q.y));
                                 let near = (-1..=1).any(|dy| {
                                     (-1..=1).any(|dx| {
                                         let c = cell + DVec2::new(f64::from(dx), f64::from(dy));

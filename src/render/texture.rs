@@ -14,7 +14,9 @@
 //! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
-use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
+use super::colour::{
+    bilinear, floor, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32,
+};
 use super::mosaic::border_coverage;
 use super::scene::Scene;
 use super::stipple::stipple_radius;
@@ -363,19 +365,35 @@ pub(super) fn spacing(b: f64, params: &TextureParams, px: f64) -> f64 {
     (2.0 * b / f64::from(params.lines_per_cell.max(0.1))).max(f64::from(params.min_spacing_px) * px)
 }
 
-/// Ink coverage of a family of parallel lines at angle `phi` to the long axis through the
+/// Sine and cosine of the angles of the hatch layers to the cell's long axis: 0, π/2, π/4
+/// (as `f64::sin_cos` gives them, which a test checks; no trigonometry per pixel).
+const LAYERS: [(f64, f64); 3] = [
+    (0.0, 1.0),
+    (1.0, 6.123_233_995_736_766e-17),
+    (0.707_106_781_186_547_5, std::f64::consts::FRAC_1_SQRT_2),
+];
+
+/// Ink coverage of a family of parallel lines at angle `φ` (its sine and cosine) to the long
+/// axis through the
 /// local point, each of width `darkness × spacing`, anti-aliased over one pixel. `offset` is
 /// the site's own position across the lines (in domain units, along the same normal), so that
 /// lines of neighbouring cells with the same direction and spacing continue into each other.
-fn lines(local: DVec2, phi: f64, spacing: f64, offset: f64, darkness: f32, px: f64) -> f32 {
-    let across = -local.x * phi.sin() + local.y * phi.cos() + offset;
+fn lines(
+    local: DVec2,
+    (sin, cos): (f64, f64),
+    spacing: f64,
+    offset: f64,
+    darkness: f32,
+    px: f64,
+) -> f32 {
+    let across = -local.x * sin + local.y * cos + offset;
     let w = across / spacing;
     let half = 0.5 * f64::from(darkness.clamp(0.0, 1.0));
     let foot = (px / spacing).max(1e-9);
     // The exact share of ink over the pixel's footprint across the lines (a box filter): a
     // gap narrower than a pixel is averaged, not rounded away to paper.
     let inked_up_to = |x: f64| {
-        let n = x.floor();
+        let n = floor(x);
         let r = x - n;
         n * 2.0 * half + r.min(half) + (r - (1.0 - half)).max(0.0)
     };
@@ -393,17 +411,25 @@ fn coverage(
     p: &TextureParams,
     px: f64,
 ) -> f32 {
-    // The site's position across lines at angle `phi` to its long axis.
-    let offset = |phi: f64| {
-        let (s, c) = (
-            f.sin * phi.cos() + f.cos * phi.sin(),
-            f.cos * phi.cos() - f.sin * phi.sin(),
-        );
+    // The site's position across lines at an angle of sine `sin` and cosine `cos` to its long
+    // axis.
+    let offset = |(sin, cos): (f64, f64)| {
+        let (s, c) = (f.sin * cos + f.cos * sin, f.cos * cos - f.sin * sin);
         // Normal of the lines in domain coordinates: (−sin(θ+φ), cos(θ+φ)).
         -s * centre.x + c * centre.y
     };
     match &p.kind {
-        TextureKind::Hatch => lines(local, 0.0, spacing(f.b, p, px), offset(0.0), darkness, px),
+        TextureKind::Hatch => {
+            let along = LAYERS[0];
+            lines(
+                local,
+                along,
+                spacing(f.b, p, px),
+                offset(along),
+                darkness,
+                px,
+            )
+        }
         TextureKind::CrossHatch => {
             // k layers of equal coverage x with 1 − (1 − x)^k = darkness.
             let k = if darkness < 0.3 {
@@ -415,14 +441,9 @@ fn coverage(
             };
             let x = 1.0 - (1.0 - darkness).powf(1.0 / k as f32);
             let s = spacing(f.b, p, px);
-            let angles = [
-                0.0,
-                std::f64::consts::FRAC_PI_2,
-                std::f64::consts::FRAC_PI_4,
-            ];
             let mut paper_left = 1.0;
-            for &phi in angles.iter().take(k) {
-                paper_left *= 1.0 - lines(local, phi, s, offset(phi), x, px);
+            for &layer in LAYERS.iter().take(k) {
+                paper_left *= 1.0 - lines(local, layer, s, offset(layer), x, px);
             }
             1.0 - paper_left
         }
@@ -458,7 +479,8 @@ fn stroke(
     // Value noise across the stroke: random per bristle, blended smoothly between bristles
     // (no hard steps, which would alias inside a cell).
     let u = local.y / s + f64::from(site_hash(site, salt::STROKE_PHASE)) * 16.0;
-    let (k, t) = (u.floor(), (u - u.floor()) as f32);
+    let k = floor(u);
+    let t = (u - k) as f32;
     let bristle = |k: f64| {
         site_hash(
             site ^ (k as i64 as u32).wrapping_mul(GOLDEN_U32),
@@ -495,8 +517,8 @@ pub fn engraving_tile(size: u32) -> GrayImage {
 /// Bilinear look-up of `img` (0..1 grey) at `(u, v)` in tile units, wrapping around.
 fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
     let (w, h) = (i64::from(img.width()), i64::from(img.height()));
-    let x = (u - u.floor()) * w as f64 - 0.5;
-    let y = (v - v.floor()) * h as f64 - 0.5;
+    let x = (u - floor(u)) * w as f64 - 0.5;
+    let y = (v - floor(v)) * h as f64 - 0.5;
     let [grey] = bilinear(x, y, |xi, yi| {
         let pixel = img.get_pixel(xi.rem_euclid(w) as u32, yi.rem_euclid(h) as u32);
         [f32::from(pixel.0[0]) / 255.0]
@@ -509,13 +531,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn hatch_layers_are_0_90_and_45_degrees() {
+        use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+        for (layer, angle) in LAYERS.iter().zip([0.0, FRAC_PI_2, FRAC_PI_4]) {
+            assert_eq!(*layer, angle.sin_cos());
+        }
+    }
+
+    #[test]
     fn line_coverage_averages_to_the_darkness() {
         for darkness in [0.1f32, 0.35, 0.8] {
             let n = 10_000;
             let mean: f32 = (0..n)
                 .map(|i| {
                     let y = f64::from(i) / f64::from(n) * 10.0;
-                    lines(DVec2::new(0.0, y), 0.0, 2.5, 0.7, darkness, 0.05)
+                    lines(DVec2::new(0.0, y), LAYERS[0], 2.5, 0.7, darkness, 0.05)
                 })
                 .sum::<f32>()
                 / n as f32;

@@ -157,7 +157,7 @@ impl CellMap {
     #[must_use]
     pub fn absorbed_into(&self, p: DVec2) -> Option<u32> {
         let o = self.owners[self.pixel(p)?];
-        (o & Self::ABSORBED != 0).then_some(o & !Self::ABSORBED)
+        (o != NONE && o & Self::ABSORBED != 0).then_some(o & !Self::ABSORBED)
     }
 
     /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
@@ -420,19 +420,23 @@ impl<'a> VoronoiCells<'a> {
             None => nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p)))),
             Some(term) => {
                 let colour = term.colour_only_at(p);
-                let mut deltas = [(NONE, f64::INFINITY); 6];
+                // δ² of every candidate; a candidate farther than the nearest plus the reach
+                // is out (compared squared: one square root per point, not six).
+                let mut squared = [(NONE, f64::INFINITY); 6];
                 let mut nearest = f64::INFINITY;
-                for (slot, &c) in deltas.iter_mut().zip(candidates) {
-                    let d = self.quads[c as usize].delta_squared(p).sqrt();
-                    nearest = nearest.min(d);
-                    *slot = (c, d);
+                for (slot, &c) in squared.iter_mut().zip(candidates) {
+                    let d2 = self.quads[c as usize].delta_squared(p);
+                    nearest = nearest.min(d2);
+                    *slot = (c, d2);
                 }
-                let limit = nearest + term.reach;
+                let limit = nearest.sqrt() + term.reach;
+                // Never under the nearest's own δ² (the square of its root can round below).
+                let limit = (limit * limit).max(nearest);
                 let two = nearest_two(
-                    deltas
+                    squared
                         .into_iter()
-                        .filter(|&(c, d)| c != NONE && d <= limit)
-                        .map(|(c, d)| (c, d * d + term.cost(colour, c))),
+                        .filter(|&(c, d2)| c != NONE && d2 <= limit)
+                        .map(|(c, d2)| (c, d2 + term.cost(colour, c))),
                 );
                 as_mapped(term, p, two, |c| {
                     self.quads[c as usize].delta_squared(p) + term.cost(colour, c)
@@ -560,6 +564,7 @@ fn as_mapped(
 /// there are fewer). A site listed twice (a neighbour's opposite corner can repeat) has the
 /// same distance both times: `<` keeps the first, and it never takes second place beside
 /// itself.
+#[inline]
 fn nearest_two(sites: impl Iterator<Item = (u32, f64)>) -> ((u32, f64), (u32, f64)) {
     let mut best = (NONE, f64::INFINITY);
     let mut second = (NONE, f64::INFINITY);
