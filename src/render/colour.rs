@@ -254,6 +254,7 @@ pub fn floor(x: f64) -> f64 {
 
 /// Bilinear interpolation at `(x, y)` in texel units (texel `(i, j)` at `(i, j)`) of the
 /// texels `texel(i, j)` gives; the caller clamps or wraps indices outside the image.
+#[inline]
 pub(super) fn bilinear<const N: usize>(
     x: f64,
     y: f64,

@@ -105,7 +105,9 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
                     sum += w * bilinear(&dog, cols, rows, x, y);
                     total += w;
                     // Follow the tangent there, keeping the direction of travel.
-                    let node = (y.round() as usize) * cols + x.round() as usize;
+                    // The nearest node (x, y ≥ 0 here: `+ 0.5` and truncation round, and
+                    // need no libm call).
+                    let node = ((y + 0.5) as usize) * cols + (x + 0.5) as usize;
                     let [mx, my] = normals[node];
                     let next = [-my, mx];
                     tangent = if next[0] * tangent[0] + next[1] * tangent[1] < 0.0 {

@@ -147,9 +147,12 @@ impl CellMap {
     /// The pixel holding `p`, if inside.
     #[inline]
     fn pixel(&self, p: DVec2) -> Option<usize> {
-        let (x, y) = (p.x.floor(), p.y.floor());
-        (x >= 0.0 && y >= 0.0 && (x as usize) < self.width && (y as usize) < self.height)
-            .then(|| y as usize * self.width + x as usize)
+        if !(p.x >= 0.0 && p.y >= 0.0) {
+            return None;
+        }
+        // Truncation is the floor of a non-negative coordinate.
+        let (x, y) = (p.x as usize, p.y as usize);
+        (x < self.width && y < self.height).then(|| y * self.width + x)
     }
 
     /// The cell an absorbed pixel went to (`None` for a pixel that kept its owner).
