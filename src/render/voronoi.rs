@@ -147,12 +147,18 @@ impl CellMap {
     /// The pixel holding `p`, if inside.
     #[inline]
     fn pixel(&self, p: DVec2) -> Option<usize> {
+        self.pixel_xy(p).map(|(x, y)| y * self.width + x)
+    }
+
+    /// Column and row of the pixel holding `p`, if inside.
+    #[inline]
+    fn pixel_xy(&self, p: DVec2) -> Option<(usize, usize)> {
         if !(p.x >= 0.0 && p.y >= 0.0) {
             return None;
         }
         // Truncation is the floor of a non-negative coordinate.
         let (x, y) = (p.x as usize, p.y as usize);
-        (x < self.width && y < self.height).then(|| y * self.width + x)
+        (x < self.width && y < self.height).then_some((x, y))
     }
 
     /// The cell an absorbed pixel went to (`None` for a pixel that kept its owner).
@@ -166,10 +172,9 @@ impl CellMap {
     /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
     #[must_use]
     pub fn near(&self, p: DVec2, site: u32) -> bool {
-        let Some(k) = self.pixel(p) else {
+        let Some((x, y)) = self.pixel_xy(p) else {
             return true;
         };
-        let (x, y) = (k % self.width, k / self.width);
         for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
             for nx in x.saturating_sub(1)..=(x + 1).min(self.width - 1) {
                 if self.owners[ny * self.width + nx] & !Self::ABSORBED == site {
