@@ -210,9 +210,9 @@ fn smooth_by_size(data: &[[f32; 3]], cols: usize, rows: usize, factor: f64) -> V
     // levels[k] = (values, width, height, σ in level-0 nodes).
     let mut levels = vec![(flat, cols, rows, 0.0f64)];
     let wanted_max = data
-        .iter()
+        .par_iter()
         .map(|&c| factor * Tensor::from_f32(c).det().max(0.0).sqrt())
-        .fold(0.0f64, f64::max);
+        .reduce(|| 0.0f64, f64::max);
     while levels
         .last()
         .is_some_and(|l| l.3 < wanted_max && l.1 > 2 && l.2 > 2)
@@ -242,9 +242,10 @@ fn smooth_by_size(data: &[[f32; 3]], cols: usize, rows: usize, factor: f64) -> V
     }
     let sample = |level: usize, c: usize, r: usize| -> [f64; 3] {
         let (values, w, h, _) = &levels[level];
-        let scale = f64::from(1u32 << level);
-        let u = ((c as f64 + 0.5) / scale - 0.5).clamp(0.0, (*w - 1) as f64);
-        let v = ((r as f64 + 0.5) / scale - 0.5).clamp(0.0, (*h - 1) as f64);
+        // 2^−level: multiplying by it divides exactly.
+        let shrink = 1.0 / f64::from(1u32 << level);
+        let u = ((c as f64 + 0.5) * shrink - 0.5).clamp(0.0, (*w - 1) as f64);
+        let v = ((r as f64 + 0.5) * shrink - 0.5).clamp(0.0, (*h - 1) as f64);
         let (x0, y0) = (u as usize, v as usize);
         let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
         let (tx, ty) = (u - x0 as f64, v - y0 as f64);
