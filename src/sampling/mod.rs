@@ -180,7 +180,8 @@ pub fn sample_observed(
         Seeding::Lattice => {
             let interior =
                 lattice::lattice_seeding(field, &fixed, target, &params.lattice, &mut rng);
-            (interior, params.lattice.rho)
+            // The closest a seed sample may be: the fill's ρ when it ran.
+            (interior, params.lattice.rho.min(params.lattice.fill_rho))
         }
     };
     stats.boundary = fixed.len();

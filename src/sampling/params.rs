@@ -76,7 +76,8 @@ pub enum Seeding {
 /// 86.5 / 1.9 %, at 4 000 samples 87.1 / 0.85 % against 88.1 / 0.86 %, at 16 000 86.8 / 0.67 %
 /// against 87.1 / 0.47 %; the rotating 4:1 field at 11 000 87.2 / 0.75 % against
 /// 87.1 / 0.62 %; a constant 2:1 field at 1 M 86.9 / 0.63 % in 32 s against 90.7 / 0.02 % in
-/// 9.4 s. Photos at painting sizes (1.5–3 k samples) come out the same either way
+/// 9.4 s (all before the lattice's fill pass, which adds 0.2–0.8 % coverage on top, see
+/// [`LatticeParams::fill_rho`]). Photos at painting sizes (1.5–3 k samples) come out the same either way
 /// (`benches/fidelity.sh`).
 pub const LATTICE_FROM_COUNT: f64 = 2000.0;
 
@@ -193,6 +194,15 @@ impl SamplerParams {
         }
         if self.iterations > 100_000 {
             return bad("iterations", "at most 100000");
+        }
+        // Closer than half the contact distance, a lattice would pile samples on each other.
+        for (key, rho) in [
+            ("lattice.rho", self.lattice.rho),
+            ("lattice.fill_rho", self.lattice.fill_rho),
+        ] {
+            if !(0.5..=1.0).contains(&rho) {
+                return bad(key, "must be in [0.5, 1]");
+            }
         }
         Ok(())
     }
