@@ -1,4 +1,5 @@
-//! Separable Gaussian blur of interleaved `f32` images, parallel over rows with rayon, with
+//! Separable Gaussian blur of interleaved `f32` images (and of 8-bit ones, in bands of rows,
+//! for the photo the edge-following cells read), parallel over rows with rayon, with
 //! replicated (clamp-to-edge) borders and the kernel truncated at 3σ.
 //!
 //! This is the smoothing behind the structure tensor (pre-smoothing and integration, paper

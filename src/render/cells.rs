@@ -15,7 +15,7 @@
 //! Positions are `f64`, colours `f32` sRGB in [0, 1].
 
 use super::pieces::one_piece;
-use super::raster::{owner_map, pixel_sums, Raster};
+use super::raster::{block_stride, owner_map, BlockSums, Raster};
 use super::voronoi::{CellMap, ColourTerm, VoronoiCells};
 use crate::field::blur::gaussian_blur_u8_parallel;
 use crate::field::{Tensor, TensorField};
@@ -149,6 +149,8 @@ impl CellSites {
         let mut term = ColourTerm::new(blurred(photo, params.blur_px), 0.0);
         term.reach = params.reach;
         let domain = field.domain();
+        // The rounds move sites, not pixels: the pixels' sums per block are made once.
+        let sums = photo_block_sums(term.photo(), self.positions.len());
         for round in 0..=params.iterations {
             let stats = {
                 let cells = VoronoiCells::new(&self.positions, &self.metrics, &self.mesh);
@@ -157,7 +159,7 @@ impl CellSites {
                 } else {
                     cells.with_colour(&term)
                 };
-                cell_stats(&cells, term.photo())
+                cell_stats(&cells, &sums)
             };
             term.means = stats
                 .iter()
@@ -277,22 +279,26 @@ impl CellStats {
 /// of blocks each.
 const STATS_STRIDE: usize = 8;
 
-/// Every cell's pixels of `photo` (one pixel per domain unit): count, position and sRGB colour
-/// sums ([`pixel_sums`]).
-fn cell_stats(cells: &VoronoiCells, photo: &image::RgbImage) -> Vec<CellStats> {
+/// Every pixel's count, position and sRGB colour, summed over the blocks of the assign-and-move
+/// rounds' owner searches (`photo` has one pixel per domain unit; `n` cells).
+fn photo_block_sums(photo: &image::RgbImage, n: usize) -> BlockSums<6> {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
-    pixel_sums(cells, w, h, STATS_STRIDE, |x, y| {
-        let [r, g, b] = photo
-            .get_pixel(x as u32, y as u32)
-            .0
-            .map(|v| f64::from(v) / 255.0);
+    let raw = photo.as_raw();
+    BlockSums::new(w, h, block_stride(w, h, n, STATS_STRIDE), |x, y| {
+        let i = 3 * (y * w + x);
+        let [r, g, b] = [raw[i], raw[i + 1], raw[i + 2]].map(|v| f64::from(v) / 255.0);
         [1.0, x as f64 + 0.5, y as f64 + 0.5, r, g, b]
     })
-    .into_iter()
-    .map(|s| CellStats {
-        count: s[0],
-        position: [s[1], s[2]],
-        colour: [s[3], s[4], s[5]],
-    })
-    .collect()
+}
+
+/// Every cell's pixels: count, position and sRGB colour sums ([`BlockSums::per_cell`]).
+fn cell_stats(cells: &VoronoiCells, sums: &BlockSums<6>) -> Vec<CellStats> {
+    sums.per_cell(cells)
+        .into_iter()
+        .map(|s| CellStats {
+            count: s[0],
+            position: [s[1], s[2]],
+            colour: [s[3], s[4], s[5]],
+        })
+        .collect()
 }

@@ -214,10 +214,10 @@ pub fn owner_map(cells: &VoronoiCells, raster: &Raster) -> Vec<u32> {
 /// are domain units (a photo under its own field). When cells average 64 pixels or more,
 /// owners are searched at the centres of `s × s` pixel blocks and the block's pixels go to
 /// that owner, `s` the largest of 2 to `max_stride` that still leaves 64 blocks per cell on
-/// average: every pixel counts, far fewer owner searches, and only pixels next to a border
-/// can land in the neighbouring cell. Cells whose colour term holds a [`CellMap`] of these
-/// pixels are summed from it, exactly and without a search. Sums run in fixed row blocks added
-/// in order, so the result does not depend on the thread count.
+/// average ([`block_stride`]): every pixel counts, far fewer owner searches, and only pixels
+/// next to a border can land in the neighbouring cell. Cells whose colour term holds a
+/// [`CellMap`] of these pixels are summed from it, exactly and without a search. Sums run in
+/// fixed row blocks added in order, so the result does not depend on the thread count.
 pub fn pixel_sums<const N: usize, F>(
     cells: &VoronoiCells,
     width: usize,
@@ -234,46 +234,145 @@ where
             return mapped_sums(map, n, value);
         }
     }
+    let stride = block_stride(width, height, n, max_stride);
+    let blocks = BlockGrid::new(width, height, stride);
+    per_block_owner(cells, &blocks, n, |gx, gy, s: &mut [f64; N]| {
+        for y in gy * stride..((gy + 1) * stride).min(height) {
+            for x in gx * stride..((gx + 1) * stride).min(width) {
+                for (acc, v) in s.iter_mut().zip(value(x, y)) {
+                    *acc += v;
+                }
+            }
+        }
+    })
+}
+
+/// The block side [`pixel_sums`] uses for `n` cells on a `width × height` image: 1 when cells
+/// average under 64 pixels, else the largest of 2 to `max_stride` that leaves 64 blocks per
+/// cell on average.
+#[must_use]
+pub fn block_stride(width: usize, height: usize, n: usize, max_stride: usize) -> usize {
     let per_cell = (width * height) as f64 / n.max(1) as f64;
-    let stride = if per_cell >= 64.0 {
+    if per_cell >= 64.0 {
         ((per_cell / 64.0).sqrt() as usize).clamp(2, max_stride.max(2))
     } else {
         1
-    };
-    // Raster point (gx, gy) is the centre of the block of pixels from (stride·gx, stride·gy);
-    // the raster covers the blocks (a last partial block included).
-    let (w, h) = (width.div_ceil(stride), height.div_ceil(stride));
-    let raster = Raster {
-        width: w,
-        height: h,
-        supersample: 1,
-        domain: DVec2::new((w * stride) as f64, (h * stride) as f64),
-    };
+    }
+}
+
+/// Blocks of `stride × stride` pixels over a `width × height` image (a last partial block
+/// included).
+#[derive(Clone, Copy, Debug)]
+struct BlockGrid {
+    width: usize,
+    height: usize,
+    stride: usize,
+}
+
+impl BlockGrid {
+    fn new(width: usize, height: usize, stride: usize) -> Self {
+        BlockGrid {
+            width,
+            height,
+            stride: stride.max(1),
+        }
+    }
+
+    /// Blocks across and down.
+    fn size(&self) -> (usize, usize) {
+        (
+            self.width.div_ceil(self.stride),
+            self.height.div_ceil(self.stride),
+        )
+    }
+
+    /// Raster point (gx, gy) at the centre of the block of pixels from (stride·gx, stride·gy).
+    fn raster(&self) -> Raster {
+        let (w, h) = self.size();
+        Raster {
+            width: w,
+            height: h,
+            supersample: 1,
+            domain: DVec2::new((w * self.stride) as f64, (h * self.stride) as f64),
+        }
+    }
+}
+
+/// Per-cell sums over the blocks of `blocks`, each block going whole to the owner of its
+/// centre: `add(gx, gy, sums)` adds block (gx, gy) into its owner's sums. Fixed row blocks,
+/// added in order.
+fn per_block_owner<const N: usize>(
+    cells: &VoronoiCells,
+    blocks: &BlockGrid,
+    n: usize,
+    add: impl Fn(usize, usize, &mut [f64; N]) + Sync,
+) -> Vec<[f64; N]> {
+    let raster = blocks.raster();
+    let w = raster.width;
     let owners = owner_map(cells, &raster);
-    let block_rows = h.div_ceil(SUM_BLOCKS).max(1);
+    let block_rows = raster.height.div_ceil(SUM_BLOCKS).max(1);
     let partial: Vec<Vec<[f64; N]>> = owners
         .par_chunks(w * block_rows)
         .enumerate()
         .map(|(block, owners)| {
             let mut sums = vec![[0.0f64; N]; n];
             for (k, &o) in owners.iter().enumerate() {
-                if o == NONE {
-                    continue;
-                }
-                let (gx, gy) = (k % w, block * block_rows + k / w);
-                let s = &mut sums[o as usize];
-                for y in gy * stride..((gy + 1) * stride).min(height) {
-                    for x in gx * stride..((gx + 1) * stride).min(width) {
-                        for (acc, v) in s.iter_mut().zip(value(x, y)) {
-                            *acc += v;
-                        }
-                    }
+                if o != NONE {
+                    add(k % w, block * block_rows + k / w, &mut sums[o as usize]);
                 }
             }
             sums
         })
         .collect();
     add_in_order(partial, n)
+}
+
+/// Sums of `value(x, y)` over every `stride × stride` block of a `width × height` image,
+/// computed once for cells that are summed again and again over the same pixels (the
+/// assign-and-move rounds of edge-following cells): each round then costs its owner search
+/// at the blocks' centres and one addition per block, not a `value` per pixel.
+pub struct BlockSums<const N: usize> {
+    blocks: BlockGrid,
+    sums: Vec<[f64; N]>,
+}
+
+impl<const N: usize> BlockSums<N> {
+    /// The block sums of `value` (blocks of side `stride`, see [`block_stride`]).
+    #[must_use]
+    pub fn new<F>(width: usize, height: usize, stride: usize, value: F) -> Self
+    where
+        F: Fn(usize, usize) -> [f64; N] + Sync,
+    {
+        let blocks = BlockGrid::new(width, height, stride);
+        let (w, _) = blocks.size();
+        let stride = blocks.stride;
+        let mut sums = vec![[0.0f64; N]; w * blocks.size().1];
+        sums.par_chunks_mut(w.max(1))
+            .enumerate()
+            .for_each(|(gy, row)| {
+                for y in gy * stride..((gy + 1) * stride).min(height) {
+                    for (gx, s) in row.iter_mut().enumerate() {
+                        for x in gx * stride..((gx + 1) * stride).min(width) {
+                            for (acc, v) in s.iter_mut().zip(value(x, y)) {
+                                *acc += v;
+                            }
+                        }
+                    }
+                }
+            });
+        BlockSums { blocks, sums }
+    }
+
+    /// Per-cell sums: every block to the owner of its centre, as [`pixel_sums`] gives them.
+    #[must_use]
+    pub fn per_cell(&self, cells: &VoronoiCells) -> Vec<[f64; N]> {
+        let (w, _) = self.blocks.size();
+        per_block_owner(cells, &self.blocks, cells.positions().len(), |gx, gy, s| {
+            for (acc, v) in s.iter_mut().zip(self.sums[gy * w + gx]) {
+                *acc += v;
+            }
+        })
+    }
 }
 
 /// [`pixel_sums`] over cells whose owners `map` already holds pixel by pixel (edge-following
@@ -406,5 +505,30 @@ mod tests {
         let sums = pixel_sums(&cells, 60, 40, 8, |_, _| [1.0]);
         let counts: Vec<f64> = sums.iter().map(|s| s[0]).collect();
         assert_eq!(counts, expected);
+    }
+
+    #[test]
+    fn block_sums_per_cell_are_the_pixel_sums() {
+        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.05")
+            .unwrap()
+            .field(90, 70);
+        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
+        let value = |x: usize, y: usize| [1.0, x as f64, ((x * 31 + y * 17) % 13) as f64];
+        let stride = block_stride(90, 70, s.positions.len(), 8);
+        assert!(
+            stride >= 2,
+            "cells of {} pixels",
+            90 * 70 / s.positions.len()
+        );
+        let want = pixel_sums(&cells, 90, 70, 8, value);
+        let got = BlockSums::new(90, 70, stride, value).per_cell(&cells);
+        for (g, w) in got.iter().zip(&want) {
+            for (a, b) in g.iter().zip(w) {
+                assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{g:?} vs {w:?}");
+            }
+        }
+        // Every pixel counted once.
+        assert_eq!(got.iter().map(|s| s[0]).sum::<f64>(), 90.0 * 70.0);
     }
 }
