@@ -22,7 +22,7 @@
 //! rejections dominate its cost.
 
 use super::rng::Rng;
-use super::seeding::{conflicts, long_semi_axis, CellGrid};
+use super::seeding::{first_conflict, long_semi_axis, CellGrid};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use std::collections::VecDeque;
@@ -70,6 +70,23 @@ struct Packing<'a> {
     grid: CellGrid,
     positions: Vec<DVec2>,
     inverses: Vec<Tensor>,
+    /// Per sample: one of its proposals was refused by a sample that does not sit on the
+    /// proposed lattice point (eq. 4's `d` of at least [`OCCUPIED`]), so a gap may be there.
+    near_miss: Vec<bool>,
+}
+
+/// A proposal refused by a sample closer than this (eq. 4) found its lattice point taken;
+/// one refused from farther lies on a seam.
+const OCCUPIED: f64 = 0.5;
+
+/// What became of a proposal.
+enum Proposal {
+    /// Accepted, with its metric.
+    Added(Tensor),
+    /// Outside the domain, or its lattice point taken.
+    Refused,
+    /// Refused by a sample off its lattice point: a seam.
+    NearMiss,
 }
 
 impl Packing<'_> {
@@ -80,33 +97,40 @@ impl Packing<'_> {
             .insert(self.positions.len() as u32, p, a, self.rho * a);
         self.positions.push(p);
         self.inverses.push(m.inverse().unwrap_or_default());
+        self.near_miss.push(false);
     }
 
     /// Adds a sample at `p` unless it is outside the domain or closer than ρ to one already
-    /// there; returns its metric when added.
-    fn try_add(&mut self, p: DVec2) -> Option<Tensor> {
+    /// there.
+    fn try_add(&mut self, p: DVec2) -> Proposal {
         let domain = self.metric.domain();
         if !(p.x > 0.0 && p.y > 0.0 && p.x < domain.x && p.y < domain.y) {
-            return None;
+            return Proposal::Refused;
         }
         let m = self.metric.sample(p);
-        let inv = m.inverse()?;
+        let Some(inv) = m.inverse() else {
+            return Proposal::Refused;
+        };
         let a = long_semi_axis(&m);
-        if conflicts(&self.grid, &self.inverses, p, &inv, a, self.rho) {
-            return None;
+        match first_conflict(&self.grid, &self.inverses, p, &inv, a, self.rho) {
+            Some(d) if d < OCCUPIED => Proposal::Refused,
+            Some(_) => Proposal::NearMiss,
+            None => {
+                self.add(p, &m);
+                Proposal::Added(m)
+            }
         }
-        self.add(p, &m);
-        Some(m)
     }
 
-    /// Grows the lattice from the samples in `front` until no proposal fits.
-    fn grow(&mut self, front: &mut VecDeque<(DVec2, Tensor)>, phase: f64) {
+    /// Grows the lattice from the samples in `front` (index, position, metric) until no
+    /// proposal fits.
+    fn grow(&mut self, front: &mut VecDeque<(usize, DVec2, Tensor)>, phase: f64) {
         // The six directions relative to the long axis, turned onto it per sample.
         let turns: [DVec2; 6] = std::array::from_fn(|k| {
             let (s, c) = (phase + std::f64::consts::FRAC_PI_3 * k as f64).sin_cos();
             DVec2::new(c, s)
         });
-        while let Some((p, m)) = front.pop_front() {
+        while let Some((k, p, m)) = front.pop_front() {
             let axis = long_axis_direction(&m);
             for turn in turns {
                 let u = axis.rotate(turn);
@@ -114,11 +138,23 @@ impl Packing<'_> {
                 // Eq. 4's d = 1 with both ellipses: the second one's radius taken at the guess.
                 let guess = p + 2.0 * reach;
                 let q = p + reach + self.metric.sample(guess).mul_vec(u);
-                if let Some(mq) = self.try_add(q) {
-                    front.push_back((q, mq));
+                match self.try_add(q) {
+                    Proposal::Added(mq) => front.push_back((self.positions.len() - 1, q, mq)),
+                    Proposal::NearMiss => self.near_miss[k] = true,
+                    Proposal::Refused => {}
                 }
             }
         }
+    }
+
+    /// Adds a seed at `s` and grows the lattice from it.
+    fn grow_from(&mut self, s: DVec2, phase: f64) -> bool {
+        let Proposal::Added(m) = self.try_add(s) else {
+            return false;
+        };
+        let mut front = VecDeque::from([(self.positions.len() - 1, s, m)]);
+        self.grow(&mut front, phase);
+        true
     }
 }
 
@@ -141,12 +177,13 @@ pub fn lattice_seeding(
         grid: CellGrid::for_field(metric, fixed.len() + expected),
         positions: Vec::with_capacity(fixed.len() + expected + expected / 8),
         inverses: Vec::new(),
+        near_miss: Vec::new(),
     };
     packing.inverses.reserve(packing.positions.capacity());
+    packing.near_miss.reserve(packing.positions.capacity());
     for &p in fixed {
         packing.add(p, &metric.sample(p));
     }
-    let mut front = VecDeque::new();
     let domain = metric.domain();
     let centre = domain * DVec2::new(0.4 + 0.2 * rng.uniform(), 0.4 + 0.2 * rng.uniform());
     let mut seeds = vec![centre];
@@ -154,23 +191,21 @@ pub fn lattice_seeding(
     while !seeds.is_empty() {
         let before = packing.positions.len();
         for &s in &seeds {
-            if let Some(m) = packing.try_add(s) {
-                front.push_back((s, m));
-                packing.grow(&mut front, params.phase);
-            }
+            packing.grow_from(s, params.phase);
         }
         if packing.positions.len() == before {
             break;
         }
         seeds = packing.grid.empty_cells().collect();
     }
-    // The seams and the holes too small for a front: every sample proposes its neighbours
-    // again, accepted at the closer `fill_rho`.
+    // The seams and the holes too small for a front: the samples that met a seam propose
+    // their neighbours again, accepted at the closer `fill_rho` (every other sample's
+    // proposals all landed on taken lattice points or outside, and would again).
     if params.fill_rho < packing.rho {
         packing.rho = params.fill_rho;
-        let mut front: VecDeque<(DVec2, Tensor)> = packing.positions[fixed.len()..]
-            .iter()
-            .map(|&p| (p, metric.sample(p)))
+        let mut front: VecDeque<(usize, DVec2, Tensor)> = (fixed.len()..packing.positions.len())
+            .filter(|&k| packing.near_miss[k])
+            .map(|k| (k, packing.positions[k], metric.sample(packing.positions[k])))
             .collect();
         packing.grow(&mut front, params.phase);
     }

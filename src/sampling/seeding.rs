@@ -303,6 +303,18 @@ pub(super) fn conflicts(
     a: f64,
     rho: f64,
 ) -> bool {
+    first_conflict(grid, inverses, c, inv, a, rho).is_some()
+}
+
+/// [`conflicts`], with eq. 4's distance `d < ρ` to the first sample found in conflict.
+pub(super) fn first_conflict(
+    grid: &CellGrid,
+    inverses: &[Tensor],
+    c: DVec2,
+    inv: &Tensor,
+    a: f64,
+    rho: f64,
+) -> Option<f64> {
     let (x0, x1, y0, y1) = grid.cells(c, rho * a);
     for y in y0..=y1 {
         for x in x0..=x1 {
@@ -311,16 +323,17 @@ pub(super) fn conflicts(
                 let entry = grid.entries[e as usize];
                 let p = entry.position;
                 // Cheap bound first: the discs of radius ρ·a must overlap.
-                if (p - c).length_squared() < (rho * (a + entry.long)).powi(2)
-                    && normalised_distance(c, inv, p, &inverses[entry.id as usize]) < rho
-                {
-                    return true;
+                if (p - c).length_squared() < (rho * (a + entry.long)).powi(2) {
+                    let d = normalised_distance(c, inv, p, &inverses[entry.id as usize]);
+                    if d < rho {
+                        return Some(d);
+                    }
                 }
                 e = entry.next;
             }
         }
     }
-    false
+    None
 }
 
 /// The larger eigenvalue of a metric (its long semi-axis), without the angle.
