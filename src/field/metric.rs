@@ -24,6 +24,7 @@ use super::grid::TensorField;
 use super::tensor::Tensor;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Every parameter of the photo → metric stage. Lengths are fractions of the image diagonal so
 /// that the same settings give the same look at any resolution.
@@ -206,9 +207,9 @@ fn smooth_by_size(data: &[[f32; 3]], cols: usize, rows: usize, factor: f64) -> V
     if factor <= 0.0 {
         return data.to_vec();
     }
-    let flat: Vec<f32> = data.iter().flatten().copied().collect();
-    // levels[k] = (values, width, height, σ in level-0 nodes).
-    let mut levels = vec![(flat, cols, rows, 0.0f64)];
+    // levels[k] = (values, width, height, σ in level-0 nodes); level 0 is `data` itself.
+    let mut levels: Vec<(Cow<[f32]>, usize, usize, f64)> =
+        vec![(Cow::Borrowed(data.as_flattened()), cols, rows, 0.0f64)];
     let wanted_max = data
         .par_iter()
         .map(|&c| factor * Tensor::from_f32(c).det().max(0.0).sqrt())
@@ -238,7 +239,7 @@ fn smooth_by_size(data: &[[f32; 3]], cols: usize, rows: usize, factor: f64) -> V
             });
         // Variance added at this level: blur σ = 1 and a 2-wide box, at scale 2^k.
         let sigma2 = 1.25 * (4f64.powi(k + 1) - 1.0) / 3.0;
-        levels.push((half, hw, hh, sigma2.sqrt()));
+        levels.push((Cow::Owned(half), hw, hh, sigma2.sqrt()));
     }
     let sample = |level: usize, c: usize, r: usize| -> [f64; 3] {
         let (values, w, h, _) = &levels[level];

@@ -69,16 +69,11 @@ pub fn photo_structure_tensor(photo: &DynamicImage, params: &MetricParams) -> Te
     let factor = structure::analysis_factor(w, h, params.analysis_diagonal);
     let lin = structure::linear_analysis_image(photo, factor);
     let diag = ((lin.width * lin.width + lin.height * lin.height) as f64).sqrt();
+    let (cols, rows) = (lin.width, lin.height);
     let j = structure::structure_tensor(
-        &lin,
+        lin,
         (params.noise_sigma * diag) as f32,
         (params.integration_sigma * diag) as f32,
     );
-    TensorField::with_spacing(
-        lin.width,
-        lin.height,
-        factor as f64,
-        (w as f64, h as f64),
-        j,
-    )
+    TensorField::with_spacing(cols, rows, factor as f64, (w as f64, h as f64), j)
 }

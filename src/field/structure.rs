@@ -7,7 +7,7 @@
 //! scale of the metric is a fraction of the image diagonal, so a 12 MP photo and its 512 px
 //! thumbnail give the same field, and the cost stays flat as photos grow.
 
-use super::blur::{gaussian_blur_parallel, gaussian_blur_parallel_mut};
+use super::blur::gaussian_blur_parallel_mut;
 use image::DynamicImage;
 use rayon::prelude::*;
 
@@ -143,25 +143,27 @@ fn box_rows(
 }
 
 /// The colour structure tensor `(Jxx, Jxy, Jyy)` per pixel of `img`, with pre-smoothing
-/// `noise_sigma` and integration `integration_sigma`, both in pixels of `img`. Gradients are
-/// kornia's Scharr operator (parallel, replicated border), whose 3x3 weights are optimised for
-/// rotation invariance: central differences bias the direction of a 14 px stripe pattern by
-/// more than a degree, Scharr by a few hundredths.
+/// `noise_sigma` and integration `integration_sigma`, both in pixels of `img` (which is
+/// smoothed in place: no copy of the image is made). Gradients are kornia's Scharr operator
+/// (parallel, replicated border), whose 3x3 weights are optimised for rotation invariance:
+/// central differences bias the direction of a 14 px stripe pattern by more than a degree,
+/// Scharr by a few hundredths.
 #[must_use]
 pub fn structure_tensor(
-    img: &LinearImage,
+    img: LinearImage,
     noise_sigma: f32,
     integration_sigma: f32,
 ) -> Vec<[f32; 3]> {
     let (w, h) = (img.width, img.height);
-    let smooth = gaussian_blur_parallel(&img.data, w, h, 3, noise_sigma);
+    let mut smooth = img.data;
+    gaussian_blur_parallel_mut(&mut smooth, w, h, 3, noise_sigma);
     let (gx, gy) = scharr_gradients(smooth, w, h);
-    let mut j = vec![0.0f32; w * h * 3];
-    j.par_chunks_mut(w * 3)
+    let mut j = vec![[0.0f32; 3]; w * h];
+    j.par_chunks_mut(w)
         .zip(gx.par_chunks(w * 3).zip(gy.par_chunks(w * 3)))
         .for_each(|(out, (gx, gy))| {
             for ((o, gx), gy) in out
-                .chunks_exact_mut(3)
+                .iter_mut()
                 .zip(gx.chunks_exact(3))
                 .zip(gy.chunks_exact(3))
             {
@@ -171,11 +173,12 @@ pub fn structure_tensor(
                     t[1] += gx[c] * gy[c];
                     t[2] += gy[c] * gy[c];
                 }
-                o.copy_from_slice(&t);
+                *o = t;
             }
         });
-    gaussian_blur_parallel_mut(&mut j, w, h, 3, integration_sigma);
-    j.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+    drop((gx, gy));
+    gaussian_blur_parallel_mut(j.as_flattened_mut(), w, h, 3, integration_sigma);
+    j
 }
 
 /// Per-channel x and y derivatives (per pixel) of an interleaved RGB image, by kornia's
@@ -236,7 +239,7 @@ mod tests {
                 })
                 .collect(),
         };
-        let j = structure_tensor(&img, 0.0, 0.0);
+        let j = structure_tensor(img, 0.0, 0.0);
         let at = j[8 + 4];
         assert!(at[0] > 0.0 && at[1].abs() < 1e-7 && at[2].abs() < 1e-7);
     }
