@@ -258,6 +258,15 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
         _ => None,
     };
+    // Per cell, once: how much of the texture shows (flat cells take their tone) and the
+    // texture's period.
+    let amps: Vec<f32> = frames
+        .iter()
+        .map(|f| smoothstep(params.fade_anisotropy, f.anisotropy))
+        .collect();
+    let periods: Vec<f64> = frames.iter().map(|f| spacing(f.b, params, px)).collect();
+    // Bare paper, as `mix_encoded` gives it (whatever the ink) for no coverage.
+    let bare = mix_encoded(paper, paper, 0.0);
     scene.shade(|p, o| {
         let site = o.site;
         let f = frames[site as usize];
@@ -265,31 +274,39 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         // Domain units along the long (x) and short (y) axes.
         let local = DVec2::new(f.cos * d.x + f.sin * d.y, -f.sin * d.x + f.cos * d.y);
         let colour = scene.colours[site as usize];
-        let (darkness, mut ink) = tones[site as usize];
-        if let (Ink::Pixel(k), Some(b)) = (params.ink, &blurred) {
-            ink = b.at(p).map(|v| v * (1.0 - k));
-        }
+        let (darkness, cell_ink) = tones[site as usize];
+        // The ink, read from the photo only where some is laid.
+        let ink = || match (params.ink, &blurred) {
+            (Ink::Pixel(k), Some(b)) => b.at(p).map(|v| v * (1.0 - k)),
+            _ => cell_ink,
+        };
         let mut c = if let TextureKind::Stroke = params.kind {
             stroke(local, &f, site, colour, params, px)
         } else {
             let centre = scene.cells.positions()[site as usize];
             let radius = radii.get(site as usize).copied().unwrap_or(0.0);
             let cover = coverage(local, centre, &f, (site, radius), darkness, params, px);
-            let amp = smoothstep(params.fade_anisotropy, f.anisotropy);
-            let mut cover = darkness + amp * (cover - darkness);
+            let mut cover = darkness + amps[site as usize] * (cover - darkness);
             if let (Some(widths), TextureKind::Stipple) = (&scene.thin_widths, &params.kind) {
                 // A cell narrower than about one and a half periods of the dot lattice cannot
                 // show its tone with dots (a thin line would catch a few dots, or none): it
                 // takes its flat tone instead, fully from half a period wide. Hatch lines run
                 // along the cell's long axis, so a thin cell still catches one along its length.
-                let period = spacing(f.b, params, px);
+                let period = periods[site as usize];
                 let thin = ((1.5 * period - widths[site as usize]) / period).clamp(0.0, 1.0);
                 cover += (darkness - cover) * thin as f32;
             }
-            mix_encoded(paper, ink, cover)
+            if cover == 0.0 {
+                bare
+            } else {
+                mix_encoded(paper, ink(), cover)
+            }
         };
         if params.border_width > 0.0 {
-            c = mix(c, ink, border_coverage(o, params.border_width));
+            let border = border_coverage(o, params.border_width);
+            if border > 0.0 {
+                c = mix(c, ink(), border);
+            }
         }
         c
     })
