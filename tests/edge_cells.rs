@@ -268,6 +268,69 @@ fn the_owner_search_of_edge_cells_agrees_with_brute_force() {
     assert!(rate >= 0.995, "{:.2} % agree", 100.0 * rate);
 }
 
+#[test]
+fn the_cell_maps_shortcut_gives_the_searched_owner() {
+    // An edge and a thin line; the same with strong grain, whose cells absorb many pieces and
+    // are rarely whole around a pixel.
+    let clean = line_picture(30.0, 3.0);
+    let mut grainy = clean.clone();
+    for (i, p) in grainy.pixels_mut().enumerate() {
+        let grain = ((i * 7919) % 23) as u8;
+        p.0 = p.0.map(|v| v.saturating_add(grain));
+    }
+    for (photo, least_share) in [(clean, 0.2), (grainy, 0.002)] {
+        let settled = shortcut_agrees(&DynamicImage::ImageRgb8(photo));
+        assert!(
+            settled > least_share,
+            "the shortcut answered {settled:.3} of the pixels"
+        );
+    }
+}
+
+/// Checks that every pixel's owner is the searched one, and returns the share of pixels the
+/// cell map settled.
+fn shortcut_agrees(photo: &DynamicImage) -> f64 {
+    use anisopaint::render::cells::{CellParams, CellSites};
+    use anisopaint::render::{Owner, Raster};
+    let loaded = photo_field(photo.clone(), &Default::default());
+    let s = anisopaint::sampling::sample(&loaded.metric, &Default::default()).unwrap();
+    let sites = CellSites::new(
+        s.positions,
+        s.metrics,
+        s.mesh,
+        &loaded.metric,
+        Some(photo),
+        &CellParams::default(),
+    );
+    let cells = sites.cells();
+    let map = cells
+        .colour()
+        .and_then(|t| t.map.as_ref())
+        .expect("a cell map");
+    let raster = Raster {
+        width: W as usize,
+        height: H as usize,
+        supersample: 1,
+        domain: loaded.metric.domain(),
+    };
+    let mut owners = vec![Owner::NOBODY; (W * H) as usize];
+    cells.shade_rows(&raster, &mut owners, W as usize, |_, found, row| {
+        row.copy_from_slice(found);
+    });
+    let mut settled = 0;
+    for (k, o) in owners.iter().enumerate() {
+        let p = raster.point(k % W as usize, k / W as usize);
+        assert_ne!(o.triangle, u32::MAX, "pixel {k} has a triangle");
+        assert_eq!(
+            *o,
+            cells.owner_searched(o.triangle as usize, p),
+            "pixel {k}"
+        );
+        settled += usize::from(map.settled_owner(p).is_some());
+    }
+    settled as f64 / owners.len() as f64
+}
+
 /// Cells at an edge as large as in a photo with texture elsewhere (a flat synthetic picture
 /// otherwise gets the smallest cells right at its one edge, where nothing can straddle much).
 const COARSE: &str = "metric.min_size=0.012";

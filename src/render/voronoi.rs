@@ -169,6 +169,35 @@ impl CellMap {
         (o != NONE && o & Self::ABSORBED != 0).then_some(o & !Self::ABSORBED)
     }
 
+    /// The owner the map settles at `p` without a search, when `p` is a pixel's centre that was
+    /// absorbed into another cell, or whose eight neighbours (those inside the map) all
+    /// belong to its own cell: there the owner search's runner-up owns no pixel around it and
+    /// is dropped ([`as_mapped`]), so the owner is the map's and there is no border.
+    #[inline]
+    #[must_use]
+    pub fn settled_owner(&self, p: DVec2) -> Option<u32> {
+        let (x, y) = self.pixel_xy(p)?;
+        if p.x != x as f64 + 0.5 || p.y != y as f64 + 0.5 {
+            return None;
+        }
+        let own = self.owners[y * self.width + x];
+        if own == NONE {
+            return None;
+        }
+        if own & Self::ABSORBED != 0 {
+            return Some(own & !Self::ABSORBED);
+        }
+        for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
+            let row = &self.owners[ny * self.width..(ny + 1) * self.width];
+            for &o in &row[x.saturating_sub(1)..=(x + 1).min(self.width - 1)] {
+                if o & !Self::ABSORBED != own {
+                    return None;
+                }
+            }
+        }
+        Some(own)
+    }
+
     /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
     #[must_use]
     pub fn near(&self, p: DVec2, site: u32) -> bool {
@@ -419,10 +448,33 @@ impl<'a> VoronoiCells<'a> {
         }
     }
 
-    /// The owner of `p` among the candidates of triangle `t`.
+    /// The owner of `p` among the candidates of triangle `t`. Where the colour term's cell map
+    /// settles the owner ([`CellMap::settled_owner`]: a pixel centre inside its cell, or
+    /// absorbed), only its `D` is computed; the result is [`Self::owner_searched`]'s.
     #[inline]
     #[must_use]
     pub fn owner_in_triangle(&self, t: usize, p: DVec2) -> Owner {
+        if let Some(term) = self.colour {
+            if let Some(site) = term.map.as_ref().and_then(|map| map.settled_owner(p)) {
+                let colour = term.colour_only_at(p);
+                let d1 = self.quads[site as usize].delta_squared(p) + term.cost(colour, site);
+                return Owner {
+                    site,
+                    second: NONE,
+                    delta: d1.sqrt() as f32,
+                    delta2: f32::INFINITY,
+                    triangle: t as u32,
+                    border_px: f32::INFINITY,
+                };
+            }
+        }
+        self.owner_searched(t, p)
+    }
+
+    /// The owner of `p` among the candidates of triangle `t`, every candidate searched.
+    #[inline]
+    #[must_use]
+    pub fn owner_searched(&self, t: usize, p: DVec2) -> Owner {
         let candidates = self.candidates[t].iter().filter(|&&c| c != NONE);
         let ((site, d1), (second, d2)) = match self.colour {
             None => nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p)))),
