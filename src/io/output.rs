@@ -92,7 +92,7 @@ fn plain(e: std::io::Error) -> std::io::Error {
     e
 }
 
-/// Runs `write` on a buffered writer to `path`'s [destination](self): standard output for
+/// Runs `write` on a buffered writer to `path`'s destination: standard output for
 /// `-`, the file itself for a device or pipe, otherwise a temporary file beside the (link's)
 /// target, renamed over it once whole. On any error a temporary file is removed and a
 /// regular file at `path` is untouched; the error names `path`.

@@ -172,7 +172,8 @@ impl CellMap {
     /// The owner the map settles at `p` without a search, when `p` is a pixel's centre that was
     /// absorbed into another cell, or whose eight neighbours (those inside the map) all
     /// belong to its own cell: there the owner search's runner-up owns no pixel around it and
-    /// is dropped ([`as_mapped`]), so the owner is the map's and there is no border.
+    /// is dropped (as the owner search reads the map), so the owner is the map's and there is
+    /// no border.
     #[inline]
     #[must_use]
     pub fn settled_owner(&self, p: DVec2) -> Option<u32> {

@@ -64,7 +64,7 @@ pub enum Seeding {
     /// tight, fast packings of smooth fields; around singular points its seams overlap more
     /// than darts do.
     Lattice,
-    /// The paper's relaxation dart throwing ([`seeding`](super::seeding)).
+    /// The paper's relaxation dart throwing ([`super::seeding`]).
     Darts,
 }
 
