@@ -120,24 +120,29 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
         }
         underpainting = Some(cells);
     } else if params.ground > 0.0 && tone_kept(scene, params) {
-        // One owner per pixel, not supersampled: the wash shows only between the glyphs.
-        let owners = super::raster::owner_map(
-            &scene.cells,
-            &Raster {
-                supersample: 1,
-                ..r
-            },
-        );
+        // One owner per pixel, not supersampled: the wash shows only between the glyphs. The
+        // owners are handed row by row straight into the canvas (no owner map of the picture).
         let washes: Vec<[u8; 3]> = scene
             .colours
             .iter()
             .map(|&c| ground_colour(params, c).map(to_srgb))
             .collect();
         let bg = params.background;
-        for (px, &site) in pixmap.pixels_mut().iter_mut().zip(&owners) {
-            let [cr, cg, cb] = washes.get(site as usize).copied().unwrap_or(bg);
-            *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
-        }
+        let centres = Raster {
+            supersample: 1,
+            ..r
+        };
+        scene.cells.shade_rows(
+            &centres,
+            pixmap.pixels_mut(),
+            w as usize,
+            |_, owners, row| {
+                for (px, o) in row.iter_mut().zip(owners) {
+                    let [cr, cg, cb] = washes.get(o.site as usize).copied().unwrap_or(bg);
+                    *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
+                }
+            },
+        );
     } else {
         let bg = params.background;
         pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
