@@ -3,7 +3,9 @@
 //! are scan-converted in parallel bands of rows, so every pixel centre gets its containing
 //! triangle without a search, and [`VoronoiCells::shade_rows`] hands each output row its
 //! pixels' [`Owner`]s, band by band, so memory stays a few rows deep whatever the image size.
-//! [`owner_map`] and [`label_map`] keep the owners themselves. Positions are `f64`.
+//! [`owner_map`] and [`label_map`] keep the owners themselves; [`pixel_sums`] and
+//! [`BlockSums`] sum a photo's pixels per cell (from the cell map when there is one).
+//! Positions are `f64`.
 
 use super::voronoi::{CellMap, Owner, VoronoiCells, NONE};
 use glam::DVec2;
