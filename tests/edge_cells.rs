@@ -235,19 +235,9 @@ fn thin_lines_keep_their_colour_and_their_cells_run_along_them() {
 
 #[test]
 fn the_owner_search_of_edge_cells_agrees_with_brute_force() {
-    use anisopaint::render::cells::{CellParams, CellSites};
     use anisopaint::render::{label_map, Raster};
     let photo = DynamicImage::ImageRgb8(line_picture(30.0, 3.0));
-    let loaded = photo_field(photo.clone(), &Default::default());
-    let s = anisopaint::sampling::sample(&loaded.metric, &Default::default()).unwrap();
-    let sites = CellSites::new(
-        s.positions,
-        s.metrics,
-        s.mesh,
-        &loaded.metric,
-        Some(&photo),
-        &CellParams::default(),
-    );
+    let (loaded, sites) = edge_cells_of(&photo);
     let cells = sites.cells();
     assert!(cells.colour().is_some());
     let raster = Raster {
@@ -290,18 +280,8 @@ fn the_cell_maps_shortcut_gives_the_searched_owner() {
 /// Checks that every pixel's owner is the searched one, and returns the share of pixels the
 /// cell map settled.
 fn shortcut_agrees(photo: &DynamicImage) -> f64 {
-    use anisopaint::render::cells::{CellParams, CellSites};
     use anisopaint::render::{Owner, Raster};
-    let loaded = photo_field(photo.clone(), &Default::default());
-    let s = anisopaint::sampling::sample(&loaded.metric, &Default::default()).unwrap();
-    let sites = CellSites::new(
-        s.positions,
-        s.metrics,
-        s.mesh,
-        &loaded.metric,
-        Some(photo),
-        &CellParams::default(),
-    );
+    let (loaded, sites) = edge_cells_of(photo);
     let cells = sites.cells();
     let map = cells
         .colour()
@@ -329,6 +309,27 @@ fn shortcut_agrees(photo: &DynamicImage) -> f64 {
         settled += usize::from(map.settled_owner(p).is_some());
     }
     settled as f64 / owners.len() as f64
+}
+
+/// The photo's field and its edge-following cells, with default settings.
+fn edge_cells_of(
+    photo: &DynamicImage,
+) -> (
+    anisopaint::input::LoadedField,
+    anisopaint::render::cells::CellSites,
+) {
+    use anisopaint::render::cells::{CellParams, CellSites};
+    let loaded = photo_field(photo.clone(), &Default::default());
+    let s = anisopaint::sampling::sample(&loaded.metric, &Default::default()).unwrap();
+    let sites = CellSites::new(
+        s.positions,
+        s.metrics,
+        s.mesh,
+        &loaded.metric,
+        Some(photo),
+        &CellParams::default(),
+    );
+    (loaded, sites)
 }
 
 /// Cells at an edge as large as in a photo with texture elsewhere (a flat synthetic picture

@@ -14,9 +14,10 @@
 //! given to their neighbours ([`pieces`](super::pieces)), so every cell is one piece.
 //! Positions are `f64`, colours `f32` sRGB in [0, 1].
 
+use super::cellmap::CellMap;
 use super::pieces::one_piece;
 use super::raster::{block_stride, owner_map, BlockSums, Raster};
-use super::voronoi::{CellMap, ColourTerm, VoronoiCells};
+use super::voronoi::{ColourTerm, VoronoiCells};
 use crate::field::blur::gaussian_blur_u8_parallel;
 use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;
@@ -238,14 +239,7 @@ impl CellSites {
 /// `photo` as sRGB bytes, blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0), all
 /// channels at once in bands of rows ([`gaussian_blur_u8_parallel`]).
 fn blurred(photo: &DynamicImage, sigma: f32) -> image::RgbImage {
-    let converted;
-    let rgb = match photo.as_rgb8() {
-        Some(rgb) => rgb,
-        None => {
-            converted = photo.to_rgb8();
-            &converted
-        }
-    };
+    let rgb = super::colour::rgb8(photo);
     let (w, h) = (rgb.width(), rgb.height());
     let data = gaussian_blur_u8_parallel(rgb.as_raw(), w as usize, h as usize, 3, sigma);
     image::RgbImage::from_raw(w, h, data).expect("w·h RGB pixels")

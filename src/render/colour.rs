@@ -238,6 +238,15 @@ pub fn site_hash(site: u32, salt: u64) -> f32 {
     (z >> 40) as f32 / (1u64 << 24) as f32
 }
 
+/// `photo` as 8-bit sRGB: borrowed when it already is, converted once otherwise.
+#[must_use]
+pub fn rgb8(photo: &DynamicImage) -> std::borrow::Cow<'_, image::RgbImage> {
+    match photo.as_rgb8() {
+        Some(rgb) => std::borrow::Cow::Borrowed(rgb),
+        None => std::borrow::Cow::Owned(photo.to_rgb8()),
+    }
+}
+
 /// `x.floor()` without a call into libm (the baseline x86-64 target has no rounding
 /// instruction, and per-pixel texture code floors several times a pixel); exact for every
 /// `|x| < 2⁶³`, which is all a picture's coordinates.

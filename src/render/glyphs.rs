@@ -237,10 +237,7 @@ fn refinement<'a>(scene: &Scene<'a>, params: &GlyphParams, n: usize) -> Option<R
     }
     let d = scene.raster.domain;
     Some(Refinement {
-        photo: match photo.as_rgb8() {
-            Some(rgb) => std::borrow::Cow::Borrowed(rgb),
-            None => std::borrow::Cow::Owned(photo.to_rgb8()),
-        },
+        photo: super::colour::rgb8(photo),
         photo_scale: DVec2::new(
             f64::from(photo.width()) / d.x,
             f64::from(photo.height()) / d.y,

@@ -194,14 +194,7 @@ pub fn outline_mask(
 
 /// The photo's lightness (sRGB luma in [0, 1]) averaged over every node's block of pixels.
 fn lightness_grid(photo: &DynamicImage, tensor: &TensorField) -> Vec<f32> {
-    let owned;
-    let rgb = match photo.as_rgb8() {
-        Some(rgb) => rgb,
-        None => {
-            owned = photo.to_rgb8();
-            &owned
-        }
-    };
+    let rgb = super::colour::rgb8(photo);
     let (cols, rows) = (tensor.cols(), tensor.rows());
     let s = tensor.spacing();
     let (w, h) = (rgb.width() as usize, rgb.height() as usize);

@@ -13,7 +13,7 @@
 //! is the photo's pixel grid. Everything runs in one thread in a fixed order, so the result
 //! does not depend on the thread count.
 
-use super::voronoi::{CellMap, NONE};
+use super::cellmap::{CellMap, NONE};
 
 /// Largest share of its cell's main piece a detached piece may hold and still be absorbed.
 pub const MAX_SHARE: f64 = 0.25;

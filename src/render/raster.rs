@@ -7,7 +7,8 @@
 //! [`BlockSums`] sum a photo's pixels per cell (from the cell map when there is one).
 //! Positions are `f64`.
 
-use super::voronoi::{CellMap, Owner, VoronoiCells, NONE};
+use super::cellmap::CellMap;
+use super::voronoi::{Owner, VoronoiCells, NONE};
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -434,7 +435,7 @@ pub fn label_map(cells: &VoronoiCells, raster: &Raster) -> Vec<i32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::AnalyticField;
+    use crate::field::{AnalyticField, TensorField};
     use crate::render::VoronoiCells;
     use crate::sampling::{self, SamplerParams};
 
@@ -450,12 +451,19 @@ mod tests {
         assert_eq!(span(&v, 0.0), Some((0.0, 4.0)));
     }
 
+    /// Samples of a constant 3:1 field at 30° on a `w × h` domain, ellipses of `size`
+    /// diagonals.
+    fn constant_samples(w: usize, h: usize, size: f64) -> (TensorField, sampling::Sampling) {
+        let field = AnalyticField::parse(&format!("constant:angle=30,anisotropy=3,size={size}"))
+            .unwrap()
+            .field(w, h);
+        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        (field, s)
+    }
+
     #[test]
     fn label_map_matches_brute_force_on_a_constant_field() {
-        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.02")
-            .unwrap()
-            .field(120, 90);
-        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        let (field, s) = constant_samples(120, 90, 0.02);
         let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
         for (w, h) in [(120, 90), (61, 47), (1, 9), (9, 1)] {
             let raster = Raster {
@@ -479,10 +487,7 @@ mod tests {
 
     #[test]
     fn sums_over_a_cell_map_count_every_pixel_for_its_cell() {
-        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.05")
-            .unwrap()
-            .field(60, 40);
-        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        let (field, s) = constant_samples(60, 40, 0.05);
         let raster = Raster {
             width: 60,
             height: 40,
@@ -511,10 +516,7 @@ mod tests {
 
     #[test]
     fn block_sums_per_cell_are_the_pixel_sums() {
-        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.05")
-            .unwrap()
-            .field(90, 70);
-        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        let (_, s) = constant_samples(90, 70, 0.05);
         let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
         let value = |x: usize, y: usize| [1.0, x as f64, ((x * 31 + y * 17) % 13) as f64];
         let stride = block_stride(90, 70, s.positions.len(), 8);

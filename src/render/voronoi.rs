@@ -17,13 +17,13 @@
 //! crosses. Positions and distances are `f64` (sites carry `f64` metrics);
 //! the per-point record is `f32`, enough for shading.
 
+use super::cellmap::CellMap;
 use crate::field::Tensor;
 use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
 use rayon::prelude::*;
 
-/// No site / no triangle.
-pub const NONE: u32 = u32::MAX;
+pub use super::cellmap::NONE;
 
 /// The owner of one raster point: the nearest site and the runner-up among the candidates,
 /// with their distances `δ`.
@@ -100,120 +100,6 @@ pub struct ColourTerm {
     /// The owners of the photo's pixels once every cell is one piece
     /// ([`pieces`](super::pieces)); `None` while the cells are still being made.
     pub map: Option<CellMap>,
-}
-
-/// The owner of every photo pixel after small detached pieces of cells were absorbed by their
-/// neighbours: an absorbed pixel belongs to its new cell whatever `D` says, and a border is
-/// drawn only where a neighbouring pixel really belongs to the other cell.
-#[derive(Clone, Debug)]
-pub struct CellMap {
-    width: usize,
-    height: usize,
-    /// Owner per pixel, row-major; [`CellMap::ABSORBED`] marks a pixel that changed cell.
-    owners: Vec<u32>,
-}
-
-impl CellMap {
-    /// The flag of an absorbed pixel, above every site index.
-    pub const ABSORBED: u32 = 1 << 31;
-
-    /// A map of `width × height` owners (row-major, flagged with [`CellMap::ABSORBED`]).
-    #[must_use]
-    pub fn new(width: usize, height: usize, owners: Vec<u32>) -> Self {
-        debug_assert_eq!(owners.len(), width * height);
-        CellMap {
-            width,
-            height,
-            owners,
-        }
-    }
-
-    /// Width and height in pixels.
-    #[must_use]
-    pub fn size(&self) -> (usize, usize) {
-        (self.width, self.height)
-    }
-
-    /// The cell of pixel `k` (row-major), absorbed or not; [`NONE`] where no site owns it.
-    #[inline]
-    #[must_use]
-    pub fn cell(&self, k: usize) -> u32 {
-        match self.owners[k] {
-            NONE => NONE,
-            o => o & !Self::ABSORBED,
-        }
-    }
-
-    /// The pixel holding `p`, if inside.
-    #[inline]
-    fn pixel(&self, p: DVec2) -> Option<usize> {
-        self.pixel_xy(p).map(|(x, y)| y * self.width + x)
-    }
-
-    /// Column and row of the pixel holding `p`, if inside.
-    #[inline]
-    fn pixel_xy(&self, p: DVec2) -> Option<(usize, usize)> {
-        if !(p.x >= 0.0 && p.y >= 0.0) {
-            return None;
-        }
-        // Truncation is the floor of a non-negative coordinate.
-        let (x, y) = (p.x as usize, p.y as usize);
-        (x < self.width && y < self.height).then_some((x, y))
-    }
-
-    /// The cell an absorbed pixel went to (`None` for a pixel that kept its owner).
-    #[inline]
-    #[must_use]
-    pub fn absorbed_into(&self, p: DVec2) -> Option<u32> {
-        let o = self.owners[self.pixel(p)?];
-        (o != NONE && o & Self::ABSORBED != 0).then_some(o & !Self::ABSORBED)
-    }
-
-    /// The owner the map settles at `p` without a search, when `p` is a pixel's centre that was
-    /// absorbed into another cell, or whose eight neighbours (those inside the map) all
-    /// belong to its own cell: there the owner search's runner-up owns no pixel around it and
-    /// is dropped (as the owner search reads the map), so the owner is the map's and there is
-    /// no border.
-    #[inline]
-    #[must_use]
-    pub fn settled_owner(&self, p: DVec2) -> Option<u32> {
-        let (x, y) = self.pixel_xy(p)?;
-        if p.x != x as f64 + 0.5 || p.y != y as f64 + 0.5 {
-            return None;
-        }
-        let own = self.owners[y * self.width + x];
-        if own == NONE {
-            return None;
-        }
-        if own & Self::ABSORBED != 0 {
-            return Some(own & !Self::ABSORBED);
-        }
-        for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
-            let row = &self.owners[ny * self.width..(ny + 1) * self.width];
-            for &o in &row[x.saturating_sub(1)..=(x + 1).min(self.width - 1)] {
-                if o & !Self::ABSORBED != own {
-                    return None;
-                }
-            }
-        }
-        Some(own)
-    }
-
-    /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
-    #[must_use]
-    pub fn near(&self, p: DVec2, site: u32) -> bool {
-        let Some((x, y)) = self.pixel_xy(p) else {
-            return true;
-        };
-        for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
-            for nx in x.saturating_sub(1)..=(x + 1).min(self.width - 1) {
-                if self.owners[ny * self.width + nx] & !Self::ABSORBED == site {
-                    return true;
-                }
-            }
-        }
-        false
-    }
 }
 
 impl ColourTerm {

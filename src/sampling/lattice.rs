@@ -22,7 +22,7 @@
 //! rejections dominate its cost.
 
 use super::rng::Rng;
-use super::seeding::{first_conflict, long_semi_axis, CellGrid};
+use super::seeding::{conflict, long_semi_axis, CellGrid};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use std::collections::VecDeque;
@@ -112,7 +112,7 @@ impl Packing<'_> {
             return Proposal::Refused;
         };
         let a = long_semi_axis(&m);
-        match first_conflict(&self.grid, &self.inverses, p, &inv, a, self.rho) {
+        match conflict(&self.grid, &self.inverses, p, &inv, a, self.rho) {
             Some(d) if d < OCCUPIED => Proposal::Refused,
             Some(_) => Proposal::NearMiss,
             None => {

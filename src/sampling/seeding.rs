@@ -237,7 +237,7 @@ pub fn relaxation_dart_throwing(
                 let m = metric.sample(c);
                 m.inverse().map(|inv| {
                     let a = long_axis(&m);
-                    let conflict = conflicts(&grid, &inverses, c, &inv, a, rho_batch);
+                    let conflict = conflict(&grid, &inverses, c, &inv, a, rho_batch).is_some();
                     Dart { inv, a, conflict }
                 })
             })
@@ -259,7 +259,7 @@ pub fn relaxation_dart_throwing(
                 rejected = 0;
             }
             let known_conflict = dart.conflict && rho == rho_batch;
-            if known_conflict || conflicts(&grid, &inverses, c, &dart.inv, dart.a, rho) {
+            if known_conflict || conflict(&grid, &inverses, c, &dart.inv, dart.a, rho).is_some() {
                 rejected += 1;
                 continue;
             }
@@ -294,20 +294,9 @@ pub fn morton_key(p: DVec2, domain: DVec2) -> u32 {
     spread(q(p.x, domain.x)) | (spread(q(p.y, domain.y)) << 1)
 }
 
-/// Whether a candidate at `c` is closer than `rho` (normalised) to any registered sample.
-pub(super) fn conflicts(
-    grid: &CellGrid,
-    inverses: &[Tensor],
-    c: DVec2,
-    inv: &Tensor,
-    a: f64,
-    rho: f64,
-) -> bool {
-    first_conflict(grid, inverses, c, inv, a, rho).is_some()
-}
-
-/// [`conflicts`], with eq. 4's distance `d < ρ` to the first sample found in conflict.
-pub(super) fn first_conflict(
+/// Whether a candidate at `c` is closer than `rho` (normalised) to any registered sample:
+/// eq. 4's distance `d < ρ` to the first such sample found, `None` when there is none.
+pub(super) fn conflict(
     grid: &CellGrid,
     inverses: &[Tensor],
     c: DVec2,
