@@ -55,11 +55,31 @@ pub fn flatten_on_paper(photo: DynamicImage) -> DynamicImage {
 }
 
 /// The structure tensor of `photo` and the metric derived from it (`params` must be valid).
+///
+/// The tensor stays at analysis resolution (the outlines draw on its grid); the metric is made
+/// on a grid [`metric_step`] times coarser, the tensor box-averaged over blocks of that many
+/// nodes. The tensor is integrated with a Gaussian of σ at least twice that block, so it is
+/// band-limited there: its spectrum at the coarse grid's Nyquist frequency is below 1e-8, and
+/// the coarse grid loses nothing bilinear interpolation needs, while every step of the metric
+/// (eigen-decomposition, sizes, gradation, smoothing) works on a quarter of the nodes or fewer.
 #[must_use]
 pub fn photo_metric(photo: &DynamicImage, params: &MetricParams) -> (TensorField, TensorField) {
     let raw = photo_structure_tensor(photo, params);
-    let metric = metric::metric_from_structure(&raw, params);
+    let step = metric_step(&raw, params);
+    let metric = if step > 1 {
+        metric::metric_from_structure(&raw.coarsened(step), params)
+    } else {
+        metric::metric_from_structure(&raw, params)
+    };
     (raw, metric)
+}
+
+/// How many structure-tensor nodes per side a node of the metric's grid spans: the largest
+/// block no wider than half the integration σ (at least 1).
+#[must_use]
+pub fn metric_step(tensor: &TensorField, params: &MetricParams) -> usize {
+    let sigma_nodes = params.integration_sigma * tensor.diagonal() / tensor.spacing();
+    ((sigma_nodes / 2.0).floor() as usize).max(1)
 }
 
 /// The structure tensor of `photo` at analysis resolution, as a field over the photo's pixels.
@@ -76,4 +96,64 @@ pub fn photo_structure_tensor(photo: &DynamicImage, params: &MetricParams) -> Te
         (params.integration_sigma * diag) as f32,
     );
     TensorField::with_spacing(cols, rows, factor as f64, (w as f64, h as f64), j)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    /// A 1200 × 800 synthetic photo (diagonal under the analysis limit, so the tensor is at full
+    /// resolution and its integration σ spans about 5.8 pixels): a disc, a band of stripes
+    /// turning with x, and a soft vertical ramp.
+    fn synthetic_photo() -> DynamicImage {
+        let img = image::RgbImage::from_fn(1200, 800, |x, y| {
+            let (fx, fy) = (f64::from(x), f64::from(y));
+            let disc = (fx - 350.0).hypot(fy - 400.0) < 180.0;
+            let angle = fx / 1200.0 * 1.5;
+            let stripes = fx > 650.0 && ((fx * angle.cos() + fy * angle.sin()) / 9.0).sin() > 0.0;
+            let ramp = (fy / 800.0 * 120.0) as u8;
+            let v = if disc {
+                230
+            } else if stripes {
+                40
+            } else {
+                60 + ramp
+            };
+            image::Rgb([v, v.saturating_sub(20), v / 2])
+        });
+        DynamicImage::ImageRgb8(img)
+    }
+
+    #[test]
+    fn the_metric_on_the_coarse_grid_is_the_full_resolution_metric() {
+        let photo = synthetic_photo();
+        let params = MetricParams::default();
+        let (raw, coarse) = photo_metric(&photo, &params);
+        assert_eq!(metric_step(&raw, &params), 2);
+        assert_eq!(coarse.spacing(), 2.0 * raw.spacing());
+
+        // The truth: every step of the metric on the tensor's own grid.
+        let full = metric::metric_from_structure(&raw, &params);
+        let (mut worst_size, mut worst_angle) = (0.0f64, 0.0f64);
+        for y in (20..780).step_by(7) {
+            for x in (20..1180).step_by(7) {
+                let p = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                let (a, b) = (coarse.sample(p), full.sample(p));
+                let size = (a.det().sqrt() / b.det().sqrt() - 1.0).abs();
+                worst_size = worst_size.max(size);
+                let (ea, eb) = (a.eigen(), b.eigen());
+                // The angle only means something on clearly elongated ellipses.
+                if eb.l2 < 0.6 * eb.l1 {
+                    let mut d = (ea.angle - eb.angle).abs() % std::f64::consts::PI;
+                    d = d.min(std::f64::consts::PI - d);
+                    worst_angle = worst_angle.max(d.to_degrees());
+                }
+            }
+        }
+        assert!(worst_size < 0.05, "mean radius differs by {worst_size}");
+        // Measured: 3.5 % and 0.5°; a grid of five tensor nodes per metric node (σ of 1.2 of
+        // its nodes) gives 12 % and 5.9°.
+        assert!(worst_angle < 2.0, "long axis turns by {worst_angle}°");
+    }
 }
