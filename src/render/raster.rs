@@ -237,7 +237,7 @@ where
             return mapped_sums(map, n, value);
         }
     }
-    let stride = block_stride(width, height, n, max_stride);
+    let stride = block_stride(width, height, n, BLOCKS_PER_CELL, max_stride);
     let blocks = BlockGrid::new(width, height, stride);
     per_block_owner(cells, &blocks, n, |gx, gy, s: &mut [f64; N]| {
         for y in gy * stride..((gy + 1) * stride).min(height) {
@@ -250,18 +250,28 @@ where
     })
 }
 
-/// The block side [`pixel_sums`] uses for `n` cells on a `width × height` image: 1 when cells
-/// average under 64 pixels, else the largest of 2 to `max_stride` that leaves 64 blocks per
-/// cell on average.
+/// The block side for `n` cells on a `width × height` image: 1 when cells average under 64
+/// pixels, else the largest of 2 to `max_stride` that leaves at least `blocks_per_cell` blocks
+/// per cell on average ([`pixel_sums`] leaves [`BLOCKS_PER_CELL`]).
 #[must_use]
-pub fn block_stride(width: usize, height: usize, n: usize, max_stride: usize) -> usize {
+pub fn block_stride(
+    width: usize,
+    height: usize,
+    n: usize,
+    blocks_per_cell: f64,
+    max_stride: usize,
+) -> usize {
     let per_cell = (width * height) as f64 / n.max(1) as f64;
     if per_cell >= 64.0 {
-        ((per_cell / 64.0).sqrt() as usize).clamp(2, max_stride.max(2))
+        ((per_cell / blocks_per_cell.max(1.0)).sqrt() as usize).clamp(2, max_stride.max(2))
     } else {
         1
     }
 }
+
+/// Blocks per cell of [`pixel_sums`]: enough that centroids and mean colours are those of the
+/// pixels (the assign-and-move rounds' last sums use as many).
+pub const BLOCKS_PER_CELL: f64 = 64.0;
 
 /// Blocks of `stride × stride` pixels over a `width × height` image (a last partial block
 /// included).
@@ -519,7 +529,7 @@ mod tests {
         let (_, s) = constant_samples(90, 70, 0.05);
         let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
         let value = |x: usize, y: usize| [1.0, x as f64, ((x * 31 + y * 17) % 13) as f64];
-        let stride = block_stride(90, 70, s.positions.len(), 8);
+        let stride = block_stride(90, 70, s.positions.len(), BLOCKS_PER_CELL, 8);
         assert!(
             stride >= 2,
             "cells of {} pixels",
