@@ -202,12 +202,14 @@ impl TensorField {
         }
     }
 
-    /// The first node (column, row) whose tensor fails `ok`, scanning row by row.
+    /// The first node (column, row) in row-major order whose tensor is `bad`, searched in
+    /// parallel (the answer is the first, whatever the thread count).
     #[must_use]
-    pub fn first_node_where(&self, bad: impl Fn(Tensor) -> bool) -> Option<(usize, usize)> {
+    pub fn first_node_where(&self, bad: impl Fn(Tensor) -> bool + Sync) -> Option<(usize, usize)> {
+        use rayon::prelude::*;
         self.data
-            .iter()
-            .position(|&c| bad(Tensor::from_f32(c)))
+            .par_iter()
+            .position_first(|&c| bad(Tensor::from_f32(c)))
             .map(|i| (i % self.cols, i / self.cols))
     }
 }

@@ -77,11 +77,21 @@ pub fn contact_distance(pa: DVec2, ma: &Tensor, pb: DVec2, mb: &Tensor) -> f64 {
     let (n, dn) = (0.5 * (na + nb), nb - na);
     let (d, dd) = (d0 + 0.5 * d1 + 0.25 * d2, d1 + d2);
     let phi = dn / n - dd / d;
+    // Near ½, log F rises by at most about φ²/16 (the slope there is about −8), so `d` by
+    // φ²/32: under NEWTON_SKIP_PHI that is below 1e-4 of `d`, and the step is skipped (the
+    // neighbours of a smooth field, most pairs, differ that little).
+    if phi.abs() < NEWTON_SKIP_PHI {
+        return half.sqrt();
+    }
     let slope = -8.0 - (dn / n).powi(2) - (2.0 * d2 * d - dd * dd) / (d * d);
     let step = (0.5 - phi / slope).clamp(0.05, 0.95);
     // F(λ) ≤ max F for every λ, so the larger of the two is the better lower bound.
     half.max(f(step)).sqrt()
 }
+
+/// [`contact_distance`] takes its Newton step only when `|φ|`, the slope of `log F` at `λ = ½`,
+/// is at least this: below it the step would raise `d` by less than `φ²/32 < 1e-4` of itself.
+const NEWTON_SKIP_PHI: f64 = 0.056;
 
 /// Whether `p` lies inside (or on) the ellipse of a sample at `centre` with inverse metric
 /// `inv`: `|m⁻¹ (p − centre)| ≤ 1`.
