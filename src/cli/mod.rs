@@ -161,6 +161,17 @@ pub fn main() -> ExitCode {
     run(std::env::args_os())
 }
 
+/// Runs `command` on a worker thread of rayon's global pool and waits for it. Its parallel
+/// loops then start from inside the pool: the work is split there, instead of each loop being
+/// handed from the main thread to the pool and the main thread put to sleep and woken again
+/// (a painting makes hundreds of loops; the sampler three per relaxation iteration). Measured
+/// (whole processes, medians of 3-5): a 1 MP mosaic 0.45 → 0.40 s on one thread and
+/// 0.27 → 0.25 s on two, `sample` of the 11 000-ellipse rotating field 0.20 → 0.18 s. `batch`
+/// runs its own pools.
+fn on_pool<R: Send>(command: impl FnOnce() -> R + Send) -> R {
+    rayon::scope(|_| command())
+}
+
 /// Runs the command line with `args` (the first is the program name).
 pub fn run<I, T>(args: I) -> ExitCode
 where
@@ -176,11 +187,11 @@ where
         }
     };
     let result = match cli.command {
-        Command::Field(args) => run_field(&args),
-        Command::Sample(args) => run_sample(&args),
-        Command::Render(args) => run_render(&args),
-        Command::Paint(args) => run_paint(&args),
-        Command::ContactSheet(args) => run_sheet(&args),
+        Command::Field(args) => on_pool(|| run_field(&args)),
+        Command::Sample(args) => on_pool(|| run_sample(&args)),
+        Command::Render(args) => on_pool(|| run_render(&args)),
+        Command::Paint(args) => on_pool(|| run_paint(&args)),
+        Command::ContactSheet(args) => on_pool(|| run_sheet(&args)),
         Command::Styles(args) => run_styles(&args),
         Command::Batch(args) => return run_batch(&args),
         Command::Info(args) => run_info(&args),
