@@ -166,8 +166,7 @@ pub fn main() -> ExitCode {
 /// handed from the main thread to the pool and the main thread put to sleep and woken again
 /// (a painting makes hundreds of loops; the sampler three per relaxation iteration). Measured
 /// (whole processes, medians of 3-5): a 1 MP mosaic 0.45 → 0.40 s on one thread and
-/// 0.27 → 0.25 s on two, `sample` of the 11 000-ellipse rotating field 0.20 → 0.18 s. `batch`
-/// runs its own pools.
+/// 0.27 → 0.25 s on two, with the same peak memory at 12 MP. `batch` runs its own pools.
 fn on_pool<R: Send>(command: impl FnOnce() -> R + Send) -> R {
     rayon::scope(|_| command())
 }
@@ -188,7 +187,10 @@ where
     };
     let result = match cli.command {
         Command::Field(args) => on_pool(|| run_field(&args)),
-        Command::Sample(args) => on_pool(|| run_sample(&args)),
+        // Not on the pool: the sampler's large sequential buffers then come from the main
+        // thread's heap, as its peak depends on (a million samples: 638 MB here, 713 MB from a
+        // worker's heap, where they mix with the loops' temporaries).
+        Command::Sample(args) => run_sample(&args),
         Command::Render(args) => on_pool(|| run_render(&args)),
         Command::Paint(args) => on_pool(|| run_paint(&args)),
         Command::ContactSheet(args) => on_pool(|| run_sheet(&args)),
