@@ -75,6 +75,15 @@ struct Packing<'a> {
     near_miss: Vec<bool>,
 }
 
+/// A proposal within this many short semi-axes (of the sample proposing it) of a sample
+/// already there lands on a taken lattice point: most of a grown lattice's proposals (on the
+/// rotating 4:1 field, 65 000 of 95 000). Eq. 4's `d` to that sample is then under
+/// [`OCCUPIED`] unless the ellipses there are under half the proposer's size, so the exact
+/// test would refuse it too (the seeds came out the same on the rotating field and photos), and
+/// it is refused without the metric look-up and the distance tests. Refusing is always safe:
+/// no overlap can come of it.
+const TAKEN: f64 = 0.25;
+
 /// A proposal refused by a sample closer than this (eq. 4) found its lattice point taken;
 /// one refused from farther lies on a seam.
 const OCCUPIED: f64 = 0.5;
@@ -101,10 +110,14 @@ impl Packing<'_> {
     }
 
     /// Adds a sample at `p` unless it is outside the domain or closer than ρ to one already
-    /// there.
-    fn try_add(&mut self, p: DVec2) -> Proposal {
+    /// there. `short` is the proposing sample's short semi-axis: a sample within
+    /// [`TAKEN`]`·short` of `p` has taken its lattice point, found without the metric at `p`.
+    fn try_add(&mut self, p: DVec2, short: f64) -> Proposal {
         let domain = self.metric.domain();
         if !(p.x > 0.0 && p.y > 0.0 && p.x < domain.x && p.y < domain.y) {
+            return Proposal::Refused;
+        }
+        if self.grid.any_closer(p, TAKEN * short) {
             return Proposal::Refused;
         }
         let m = self.metric.sample(p);
@@ -132,13 +145,14 @@ impl Packing<'_> {
         });
         while let Some((k, p, m)) = front.pop_front() {
             let axis = long_axis_direction(&m);
+            let short = short_semi_axis(&m);
             for turn in turns {
                 let u = axis.rotate(turn);
                 let reach = m.mul_vec(u);
                 // Eq. 4's d = 1 with both ellipses: the second one's radius taken at the guess.
                 let guess = p + 2.0 * reach;
                 let q = p + reach + self.metric.sample(guess).mul_vec(u);
-                match self.try_add(q) {
+                match self.try_add(q, short) {
                     Proposal::Added(mq) => front.push_back((self.positions.len() - 1, q, mq)),
                     Proposal::NearMiss => self.near_miss[k] = true,
                     Proposal::Refused => {}
@@ -149,7 +163,7 @@ impl Packing<'_> {
 
     /// Adds a seed at `s` and grows the lattice from it.
     fn grow_from(&mut self, s: DVec2, phase: f64) -> bool {
-        let Proposal::Added(m) = self.try_add(s) else {
+        let Proposal::Added(m) = self.try_add(s, 0.0) else {
             return false;
         };
         let mut front = VecDeque::from([(self.positions.len() - 1, s, m)]);
@@ -210,6 +224,12 @@ pub fn lattice_seeding(
         packing.grow(&mut front, params.phase);
     }
     packing.positions.split_off(fixed.len())
+}
+
+/// The smaller eigenvalue of a metric (its short semi-axis).
+fn short_semi_axis(m: &Tensor) -> f64 {
+    let half_diff = 0.5 * (m.xx - m.yy);
+    0.5 * (m.xx + m.yy) - (half_diff * half_diff + m.xy * m.xy).sqrt()
 }
 
 /// The unit direction of a metric's long axis (x̂ for a circle), without an angle.

@@ -159,6 +159,22 @@ impl CellGrid {
             })
     }
 
+    /// Whether a registered sample lies closer than `radius` to `p`, when `radius` is at most
+    /// the radius every sample registered its disc with: such a sample's disc covers `p`, so
+    /// only `p`'s own cell is read.
+    pub(super) fn any_closer(&self, p: DVec2, radius: f64) -> bool {
+        let (x, _, y, _) = self.cells(p, 0.0);
+        let mut e = self.head[y * self.cols + x];
+        while e != END {
+            let entry = &self.entries[e as usize];
+            if (entry.position - p).length_squared() < radius * radius {
+                return true;
+            }
+            e = entry.next;
+        }
+        false
+    }
+
     /// Cell index ranges touched by the disc of `radius` about `p`.
     fn cells(&self, p: DVec2, radius: f64) -> (usize, usize, usize, usize) {
         // `as` saturates negative values to 0 and truncates the rest: floor for v ≥ 0.
