@@ -161,14 +161,21 @@ pub fn main() -> ExitCode {
     run(std::env::args_os())
 }
 
-/// Runs `command` on a worker thread of rayon's global pool and waits for it. Its parallel
-/// loops then start from inside the pool: the work is split there, instead of each loop being
-/// handed from the main thread to the pool and the main thread put to sleep and woken again
-/// (a painting makes hundreds of loops; the sampler three per relaxation iteration). Measured
+/// Makes the calling thread (the main one) thread 0 of rayon's global pool, before any parallel
+/// work. Parallel loops then start from inside the pool: their work is split there, instead of
+/// each loop being handed from the main thread to the pool while the main thread sleeps and is
+/// woken again (a painting makes hundreds of loops, the sampler three per relaxation
+/// iteration), and the pool has the configured number of threads, the main one among them.
+/// The main thread keeps its own heap, where the sampler's large sequential buffers come from
+/// (run on another worker instead, a million samples peaked at 713 MB, not 638 MB). Measured
 /// (whole processes, medians of 3-5): a 1 MP mosaic 0.45 → 0.40 s on one thread and
-/// 0.27 → 0.25 s on two, with the same peak memory at 12 MP. `batch` runs its own pools.
-fn on_pool<R: Send>(command: impl FnOnce() -> R + Send) -> R {
-    rayon::scope(|_| command())
+/// 0.27 → 0.25 s on two. Not for `batch`, whose workers are threads of their own: one that
+/// paints outside its pool hands its loops to the global pool, which must then have threads
+/// other than the waiting main one. A pool already built (a second call) is kept.
+fn main_thread_joins_the_pool() {
+    let _ = rayon::ThreadPoolBuilder::new()
+        .use_current_thread()
+        .build_global();
 }
 
 /// Runs the command line with `args` (the first is the program name).
@@ -185,15 +192,15 @@ where
             return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
     };
+    if !matches!(cli.command, Command::Batch(_)) {
+        main_thread_joins_the_pool();
+    }
     let result = match cli.command {
-        Command::Field(args) => on_pool(|| run_field(&args)),
-        // Not on the pool: the sampler's large sequential buffers then come from the main
-        // thread's heap, as its peak depends on (a million samples: 638 MB here, 713 MB from a
-        // worker's heap, where they mix with the loops' temporaries).
+        Command::Field(args) => run_field(&args),
         Command::Sample(args) => run_sample(&args),
-        Command::Render(args) => on_pool(|| run_render(&args)),
-        Command::Paint(args) => on_pool(|| run_paint(&args)),
-        Command::ContactSheet(args) => on_pool(|| run_sheet(&args)),
+        Command::Render(args) => run_render(&args),
+        Command::Paint(args) => run_paint(&args),
+        Command::ContactSheet(args) => run_sheet(&args),
         Command::Styles(args) => run_styles(&args),
         Command::Batch(args) => return run_batch(&args),
         Command::Info(args) => run_info(&args),
