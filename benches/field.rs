@@ -5,7 +5,7 @@
 //! Run: `cargo bench --bench field`. The 12 MP photo is a sample photo scaled up, so the
 //! content is real; it is made once at start.
 
-use anisopaint::field::structure::gradient_products;
+use anisopaint::field::structure::{channel_products, gradient_products};
 use anisopaint::field::{blur::gaussian_blur_parallel, photo_metric, MetricParams};
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use image::{imageops::FilterType, DynamicImage};
@@ -98,15 +98,7 @@ fn gradient_implementations(c: &mut Criterion) {
                     .as_slice()
                     .chunks_exact(3)
                     .zip(dy.as_slice().chunks_exact(3))
-                    .map(|(gx, gy)| {
-                        let mut t = [0.0f32; 3];
-                        for c in 0..3 {
-                            t[0] += gx[c] * gx[c];
-                            t[1] += gx[c] * gy[c];
-                            t[2] += gy[c] * gy[c];
-                        }
-                        t
-                    })
+                    .map(|(gx, gy)| channel_products(gx, gy))
                     .collect();
                 products
             },

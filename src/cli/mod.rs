@@ -169,9 +169,10 @@ pub fn main() -> ExitCode {
 /// The main thread keeps its own heap, where the sampler's large sequential buffers come from
 /// (run on another worker instead, a million samples peaked at 713 MB, not 638 MB). Measured
 /// (whole processes, medians of 3-5): a 1 MP mosaic 0.45 → 0.39 s on one thread and
-/// 0.27 → 0.24 s on two, `sample` of the rotating 4:1 field 0.21 → 0.18 s. Not for `batch`, whose workers are threads of their own: one that
-/// paints outside its pool hands its loops to the global pool, which must then have threads
-/// other than the waiting main one. A pool already built (a second call) is kept.
+/// 0.27 → 0.24 s on two, `sample` of the rotating 4:1 field 0.21 → 0.18 s. Not for `batch`,
+/// whose workers are threads of their own: one that paints outside its pool hands its loops to
+/// the global pool, which must then have threads other than the waiting main one. A pool
+/// already built (a second call) is kept.
 fn main_thread_joins_the_pool() {
     let _ = rayon::ThreadPoolBuilder::new()
         .use_current_thread()

@@ -238,17 +238,25 @@ pub fn gradient_products(img: &[f32], w: usize, h: usize) -> Vec<[f32; 3]> {
                 .zip(gx.chunks_exact(3))
                 .zip(gy.chunks_exact(3))
             {
-                let mut t = [0.0f32; 3];
-                for c in 0..3 {
-                    t[0] += x[c] * x[c];
-                    t[1] += x[c] * y[c];
-                    t[2] += y[c] * y[c];
-                }
-                *o = t;
+                *o = channel_products(x, y);
             }
         },
     );
     j
+}
+
+/// `Σ_c (gx_c², gx_c·gy_c, gy_c²)` over a pixel's three channels, summed in channel order: the
+/// structure tensor of one pixel from its x and y derivatives.
+#[inline]
+#[must_use]
+pub fn channel_products(gx: &[f32], gy: &[f32]) -> [f32; 3] {
+    let mut t = [0.0f32; 3];
+    for c in 0..3 {
+        t[0] += gx[c] * gx[c];
+        t[1] += gx[c] * gy[c];
+        t[2] += gy[c] * gy[c];
+    }
+    t
 }
 
 #[cfg(test)]
@@ -296,15 +304,7 @@ mod tests {
         dx.as_slice()
             .chunks_exact(3)
             .zip(dy.as_slice().chunks_exact(3))
-            .map(|(gx, gy)| {
-                let mut t = [0.0f32; 3];
-                for c in 0..3 {
-                    t[0] += gx[c] * gx[c];
-                    t[1] += gx[c] * gy[c];
-                    t[2] += gy[c] * gy[c];
-                }
-                t
-            })
+            .map(|(gx, gy)| channel_products(gx, gy))
             .collect()
     }
 

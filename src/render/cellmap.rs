@@ -96,15 +96,9 @@ impl CellMap {
         if own & Self::ABSORBED != 0 {
             return Some(own & !Self::ABSORBED);
         }
-        for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
-            let row = &self.owners[ny * self.width..(ny + 1) * self.width];
-            for &o in &row[x.saturating_sub(1)..=(x + 1).min(self.width - 1)] {
-                if o & !Self::ABSORBED != own {
-                    return None;
-                }
-            }
-        }
-        Some(own)
+        self.around(x, y)
+            .all(|o| o & !Self::ABSORBED == own)
+            .then_some(own)
     }
 
     /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
@@ -113,13 +107,17 @@ impl CellMap {
         let Some((x, y)) = self.pixel_xy(p) else {
             return true;
         };
-        for ny in y.saturating_sub(1)..=(y + 1).min(self.height - 1) {
-            for nx in x.saturating_sub(1)..=(x + 1).min(self.width - 1) {
-                if self.owners[ny * self.width + nx] & !Self::ABSORBED == site {
-                    return true;
-                }
-            }
-        }
-        false
+        self.around(x, y).any(|o| o & !Self::ABSORBED == site)
+    }
+
+    /// The flagged owners of pixel (`x`, `y`) and of its neighbours inside the map, row by row.
+    #[inline]
+    fn around(&self, x: usize, y: usize) -> impl Iterator<Item = u32> + '_ {
+        let columns = x.saturating_sub(1)..=(x + 1).min(self.width - 1);
+        (y.saturating_sub(1)..=(y + 1).min(self.height - 1)).flat_map(move |ny| {
+            self.owners[ny * self.width..(ny + 1) * self.width][columns.clone()]
+                .iter()
+                .copied()
+        })
     }
 }

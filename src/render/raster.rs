@@ -239,14 +239,10 @@ where
     }
     let stride = block_stride(width, height, n, BLOCKS_PER_CELL, max_stride);
     let blocks = BlockGrid::new(width, height, stride);
+    // Each block's pixels straight into its owner's sums: no buffer of block sums, which at
+    // stride 1 (small cells) would hold N values per pixel.
     per_block_owner(cells, &blocks, n, |gx, gy, s: &mut [f64; N]| {
-        for y in gy * stride..((gy + 1) * stride).min(height) {
-            for x in gx * stride..((gx + 1) * stride).min(width) {
-                for (acc, v) in s.iter_mut().zip(value(x, y)) {
-                    *acc += v;
-                }
-            }
-        }
+        blocks.add_block(gx, gy, &value, s);
     })
 }
 
@@ -297,6 +293,25 @@ impl BlockGrid {
             self.width.div_ceil(self.stride),
             self.height.div_ceil(self.stride),
         )
+    }
+
+    /// Adds `value` over the pixels of block (gx, gy) into `acc`, row by row.
+    #[inline]
+    fn add_block<const N: usize>(
+        &self,
+        gx: usize,
+        gy: usize,
+        value: &impl Fn(usize, usize) -> [f64; N],
+        acc: &mut [f64; N],
+    ) {
+        let s = self.stride;
+        for y in gy * s..((gy + 1) * s).min(self.height) {
+            for x in gx * s..((gx + 1) * s).min(self.width) {
+                for (a, v) in acc.iter_mut().zip(value(x, y)) {
+                    *a += v;
+                }
+            }
+        }
     }
 
     /// Raster point (gx, gy) at the centre of the block of pixels from (stride·gx, stride·gy).
@@ -357,20 +372,13 @@ impl<const N: usize> BlockSums<N> {
         F: Fn(usize, usize) -> [f64; N] + Sync,
     {
         let blocks = BlockGrid::new(width, height, stride);
-        let (w, _) = blocks.size();
-        let stride = blocks.stride;
-        let mut sums = vec![[0.0f64; N]; w * blocks.size().1];
+        let (w, h) = blocks.size();
+        let mut sums = vec![[0.0f64; N]; w * h];
         sums.par_chunks_mut(w.max(1))
             .enumerate()
             .for_each(|(gy, row)| {
-                for y in gy * stride..((gy + 1) * stride).min(height) {
-                    for (gx, s) in row.iter_mut().enumerate() {
-                        for x in gx * stride..((gx + 1) * stride).min(width) {
-                            for (acc, v) in s.iter_mut().zip(value(x, y)) {
-                                *acc += v;
-                            }
-                        }
-                    }
+                for (gx, s) in row.iter_mut().enumerate() {
+                    blocks.add_block(gx, gy, &value, s);
                 }
             });
         BlockSums { blocks, sums }

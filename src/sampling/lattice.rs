@@ -22,7 +22,7 @@
 //! rejections dominate its cost.
 
 use super::rng::Rng;
-use super::seeding::{conflict, long_semi_axis, CellGrid};
+use super::seeding::{conflict, long_semi_axis, short_semi_axis, CellGrid};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use std::collections::VecDeque;
@@ -163,6 +163,7 @@ impl Packing<'_> {
 
     /// Adds a seed at `s` and grows the lattice from it.
     fn grow_from(&mut self, s: DVec2, phase: f64) -> bool {
+        // A seed has no proposer: no lattice point of its own to find taken.
         let Proposal::Added(m) = self.try_add(s, 0.0) else {
             return false;
         };
@@ -224,12 +225,6 @@ pub fn lattice_seeding(
         packing.grow(&mut front, params.phase);
     }
     packing.positions.split_off(fixed.len())
-}
-
-/// The smaller eigenvalue of a metric (its short semi-axis).
-fn short_semi_axis(m: &Tensor) -> f64 {
-    let half_diff = 0.5 * (m.xx - m.yy);
-    0.5 * (m.xx + m.yy) - (half_diff * half_diff + m.xy * m.xy).sqrt()
 }
 
 /// The unit direction of a metric's long axis (x̂ for a circle), without an angle.

@@ -357,8 +357,26 @@ pub(super) fn conflict(
 #[inline]
 #[must_use]
 pub fn long_semi_axis(t: &Tensor) -> f64 {
+    let (mean, radius) = mean_and_spread(t);
+    mean + radius
+}
+
+/// The smaller eigenvalue of a metric (its short semi-axis), without the angle.
+#[inline]
+#[must_use]
+pub fn short_semi_axis(t: &Tensor) -> f64 {
+    let (mean, radius) = mean_and_spread(t);
+    mean - radius
+}
+
+/// The mean of a symmetric tensor's eigenvalues and half their difference.
+#[inline]
+fn mean_and_spread(t: &Tensor) -> (f64, f64) {
     let half_diff = 0.5 * (t.xx - t.yy);
-    0.5 * (t.xx + t.yy) + (half_diff * half_diff + t.xy * t.xy).sqrt()
+    (
+        0.5 * (t.xx + t.yy),
+        (half_diff * half_diff + t.xy * t.xy).sqrt(),
+    )
 }
 
 /// Median long semi-axis of the field (a sample of its nodes), the grid's cell size.
