@@ -7,13 +7,16 @@
 use super::distance::{normalised_distance, radius_along};
 use super::force::force_spline;
 use super::rng::Rng;
-use crate::field::TensorField;
+use crate::field::{Tensor, TensorField};
 use glam::DVec2;
+use rayon::prelude::*;
 
 /// Iterations of the 1-D relaxation along each edge.
 const EDGE_ITERATIONS: usize = 40;
 
 /// Samples along the domain's boundary: corners first, then the edges' interior samples.
+/// The four edges are subdivided and relaxed in parallel; the jitter draws from `rng` edge by
+/// edge in between, so the samples do not depend on the thread count.
 #[must_use]
 pub fn boundary_samples(metric: &TensorField, rng: &mut Rng) -> Vec<DVec2> {
     let d = metric.domain();
@@ -24,9 +27,15 @@ pub fn boundary_samples(metric: &TensorField, rng: &mut Rng) -> Vec<DVec2> {
         DVec2::new(0.0, d.y),
     ];
     let mut out = corners.to_vec();
-    let mut edges: Vec<Vec<DVec2>> = (0..4)
-        .map(|i| edge_samples(metric, corners[i], corners[(i + 1) % 4], rng))
+    let mut lines: Vec<Edge> = (0..4)
+        .into_par_iter()
+        .map(|i| Edge::subdivided(metric, corners[i], corners[(i + 1) % 4]))
         .collect();
+    for line in &mut lines {
+        line.jitter(rng);
+    }
+    lines.par_iter_mut().for_each(|line| line.relax(metric));
+    let mut edges: Vec<Vec<DVec2>> = lines.iter().map(Edge::points).collect();
     for (i, &corner) in corners.iter().enumerate() {
         // Edge i leaves corner i; edge i − 1 arrives at it.
         let before = (i + 3) % 4;
@@ -69,18 +78,101 @@ fn resolve_corner(
 /// Smallest normalised distance kept between the samples of two edges next to a corner.
 const CORNER_MIN_DISTANCE: f64 = 0.9;
 
-/// The interior samples of the edge from `a` to `b` (corners excluded).
-fn edge_samples(metric: &TensorField, a: DVec2, b: DVec2, rng: &mut Rng) -> Vec<DVec2> {
-    let length = (b - a).length();
-    if length <= 0.0 {
-        return Vec::new();
+/// The interior samples of one edge, as distances `ts` along it from its start `a`.
+struct Edge {
+    a: DVec2,
+    dir: DVec2,
+    length: f64,
+    ts: Vec<f64>,
+}
+
+impl Edge {
+    /// The edge from `a` to `b` (corners excluded) subdivided so that neighbours sit at
+    /// normalised distance about 1 along it.
+    fn subdivided(metric: &TensorField, a: DVec2, b: DVec2) -> Edge {
+        let length = (b - a).length();
+        let dir = if length > 0.0 {
+            (b - a) / length
+        } else {
+            DVec2::X
+        };
+        let ts = if length > 0.0 {
+            subdivision(metric, a, dir, length)
+        } else {
+            Vec::new()
+        };
+        Edge { a, dir, length, ts }
     }
-    let dir = (b - a) / length;
+
+    /// The samples' positions.
+    fn points(&self) -> Vec<DVec2> {
+        self.ts.iter().map(|&t| self.a + self.dir * t).collect()
+    }
+
+    /// Where the two neighbours of sample `i` are (the corners at the ends).
+    fn gap(&self, i: usize) -> (f64, f64) {
+        let lo = if i == 0 { 0.0 } else { self.ts[i - 1] };
+        let hi = if i + 1 == self.ts.len() {
+            self.length
+        } else {
+            self.ts[i + 1]
+        };
+        (lo, hi)
+    }
+
+    /// Moves every sample by up to a sixth of its gap to a neighbour, keeping the order.
+    fn jitter(&mut self, rng: &mut Rng) {
+        for i in 0..self.ts.len() {
+            let (lo, hi) = self.gap(i);
+            let jitter = (rng.uniform() - 0.5) / 3.0;
+            let span = if jitter < 0.0 {
+                self.ts[i] - lo
+            } else {
+                hi - self.ts[i]
+            };
+            self.ts[i] += jitter * span;
+        }
+    }
+
+    /// Moves the samples along the edge under the force spline of their two neighbours
+    /// (corners fixed), keeping the order. Each sample's inverse metric is looked up once per
+    /// move, not once per pair.
+    fn relax(&mut self, metric: &TensorField) {
+        let (a, dir, n) = (self.a, self.dir, self.ts.len());
+        let inv = |t: f64| metric.sample(a + dir * t).inverse().unwrap_or_default();
+        // Inverses at the corners, then at every sample, kept current as the samples move.
+        let (inv_start, inv_end) = (inv(0.0), inv(self.length));
+        let mut invs: Vec<_> = self.ts.iter().map(|&t| inv(t)).collect();
+        for _ in 0..EDGE_ITERATIONS {
+            for i in 0..n {
+                let (lo, hi) = self.gap(i);
+                let inv_lo = if i == 0 { inv_start } else { invs[i - 1] };
+                let inv_hi = if i + 1 == n { inv_end } else { invs[i + 1] };
+                let ti = self.ts[i];
+                let (p, ip) = (a + dir * ti, invs[i]);
+                let push = |other: f64, inv_other: &Tensor| {
+                    let d = normalised_distance(p, &ip, a + dir * other, inv_other);
+                    let span = (ti - other).abs().max(1e-12);
+                    force_spline(d) * span / d.max(1e-6)
+                };
+                // Repulsion from the lower neighbour pushes up, from the upper one down.
+                let step = 0.25 * (push(lo, &inv_lo) - push(hi, &inv_hi));
+                let t = (ti + step).clamp(lo + 0.25 * (ti - lo), hi - 0.25 * (hi - ti));
+                self.ts[i] = t;
+                invs[i] = inv(t);
+            }
+        }
+    }
+}
+
+/// Distances along the edge from `a` in direction `dir` that cut it at equal normalised arc
+/// length `∫ dt / (2 r(t))`, into a whole number of pieces of about 1.
+fn subdivision(metric: &TensorField, a: DVec2, dir: DVec2, length: f64) -> Vec<f64> {
     let radius = |t: f64| {
         let inv = metric.sample(a + dir * t).inverse();
         inv.map_or(length, |inv| radius_along(&inv, dir))
     };
-    // Normalised arc length ∫ dt / (2 r(t)) by the midpoint rule, steps of a fraction of r.
+    // Normalised arc length by the midpoint rule, steps of a fraction of r.
     let mut cumulative = vec![(0.0, 0.0)];
     let (mut t, mut s) = (0.0f64, 0.0f64);
     while t < length {
@@ -105,56 +197,12 @@ fn edge_samples(metric: &TensorField, a: DVec2, b: DVec2, rng: &mut Rng) -> Vec<
         let (t1, s1) = cumulative[j + 1];
         ts.push(t0 + (t1 - t0) * (target - s0) / (s1 - s0).max(1e-300));
     }
-    relax_edge(metric, a, dir, length, &mut ts, rng);
-    ts.into_iter().map(|t| a + dir * t).collect()
-}
-
-/// Jitters the edge samples by up to a sixth of their spacing, then moves them along the
-/// edge under the force spline of their two neighbours (corners fixed), keeping the order.
-fn relax_edge(
-    metric: &TensorField,
-    a: DVec2,
-    dir: DVec2,
-    length: f64,
-    ts: &mut [f64],
-    rng: &mut Rng,
-) {
-    let n = ts.len();
-    let gap = |ts: &[f64], i: usize| {
-        let lo = if i == 0 { 0.0 } else { ts[i - 1] };
-        let hi = if i + 1 == n { length } else { ts[i + 1] };
-        (lo, hi)
-    };
-    for i in 0..n {
-        let (lo, hi) = gap(ts, i);
-        let jitter = (rng.uniform() - 0.5) / 3.0;
-        let span = if jitter < 0.0 { ts[i] - lo } else { hi - ts[i] };
-        ts[i] += jitter * span;
-    }
-    let inv = |t: f64| metric.sample(a + dir * t).inverse().unwrap_or_default();
-    for _ in 0..EDGE_ITERATIONS {
-        for i in 0..n {
-            let (lo, hi) = gap(ts, i);
-            let p = a + dir * ts[i];
-            let ip = inv(ts[i]);
-            let push = |other: f64| {
-                let q = a + dir * other;
-                let d = normalised_distance(p, &ip, q, &inv(other));
-                let span = (ts[i] - other).abs().max(1e-12);
-                force_spline(d) * span / d.max(1e-6)
-            };
-            // Repulsion from the lower neighbour pushes up, from the upper one down.
-            let step = 0.25 * (push(lo) - push(hi));
-            let t = ts[i] + step;
-            ts[i] = t.clamp(lo + 0.25 * (ts[i] - lo), hi - 0.25 * (hi - ts[i]));
-        }
-    }
+    ts
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::Tensor;
 
     #[test]
     fn edge_neighbours_sit_near_distance_one() {

@@ -22,7 +22,7 @@
 //! rejections dominate its cost.
 
 use super::rng::Rng;
-use super::seeding::{conflict, long_semi_axis, short_semi_axis, CellGrid};
+use super::seeding::{conflict, half_extents, short_semi_axis, CellGrid};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use std::collections::VecDeque;
@@ -70,23 +70,26 @@ struct Packing<'a> {
     grid: CellGrid,
     positions: Vec<DVec2>,
     inverses: Vec<Tensor>,
-    /// Per sample: one of its proposals was refused by a sample that does not sit on the
-    /// proposed lattice point (eq. 4's `d` of at least [`OCCUPIED`]), so a gap may be there.
-    near_miss: Vec<bool>,
+    /// Per sample, a bit per lattice direction: that proposal was refused by a sample at
+    /// eq. 4's `d` of at least `fill_rho`, off the proposed lattice point, so the fill may
+    /// take it.
+    near_miss: Vec<u8>,
+    /// [`LatticeParams::fill_rho`]: a proposal refused by a sample closer than this would be
+    /// refused by the fill too, since that sample stays.
+    fill_rho: f64,
 }
 
 /// A proposal within this many short semi-axes (of the sample proposing it) of a sample
 /// already there lands on a taken lattice point: most of a grown lattice's proposals (on the
-/// rotating 4:1 field, 65 000 of 95 000). Eq. 4's `d` to that sample is then under
-/// [`OCCUPIED`] unless the ellipses there are under half the proposer's size, so the exact
-/// test would refuse it too (the seeds came out the same on the rotating field and photos), and
+/// rotating 4:1 field, 65 000 of 95 000). Eq. 4's `d` to that sample is then under 0.5 (at
+/// most the smallest `fill_rho`) unless the ellipses there are under half the proposer's
+/// size, so the exact test would refuse it too, for the front and the fill (the seeds came out the same on the rotating field and photos), and
 /// it is refused without the metric look-up and the distance tests. Refusing is always safe:
 /// no overlap can come of it.
 const TAKEN: f64 = 0.25;
 
-/// A proposal refused by a sample closer than this (eq. 4) found its lattice point taken;
-/// one refused from farther lies on a seam.
-const OCCUPIED: f64 = 0.5;
+/// Every lattice direction of [`Packing::grow`], as bits.
+const ALL_DIRECTIONS: u8 = 0b11_1111;
 
 /// What became of a proposal.
 enum Proposal {
@@ -94,19 +97,18 @@ enum Proposal {
     Added(Tensor),
     /// Outside the domain, or its lattice point taken.
     Refused,
-    /// Refused by a sample off its lattice point: a seam.
+    /// Refused by a sample at `d` of at least the fill's ρ: a seam the fill may close.
     NearMiss,
 }
 
 impl Packing<'_> {
     /// Adds a sample at `p` with metric `m` without any test.
     fn add(&mut self, p: DVec2, m: &Tensor) {
-        let a = long_semi_axis(m);
         self.grid
-            .insert(self.positions.len() as u32, p, a, self.rho * a);
+            .insert(self.positions.len() as u32, p, half_extents(m), self.rho);
         self.positions.push(p);
         self.inverses.push(m.inverse().unwrap_or_default());
-        self.near_miss.push(false);
+        self.near_miss.push(0);
     }
 
     /// Adds a sample at `p` unless it is outside the domain or closer than ρ to one already
@@ -124,9 +126,15 @@ impl Packing<'_> {
         let Some(inv) = m.inverse() else {
             return Proposal::Refused;
         };
-        let a = long_semi_axis(&m);
-        match conflict(&self.grid, &self.inverses, p, &inv, a, self.rho) {
-            Some(d) if d < OCCUPIED => Proposal::Refused,
+        match conflict(
+            &self.grid,
+            &self.inverses,
+            p,
+            &inv,
+            half_extents(&m),
+            self.rho,
+        ) {
+            Some(d) if d < self.fill_rho => Proposal::Refused,
             Some(_) => Proposal::NearMiss,
             None => {
                 self.add(p, &m);
@@ -135,26 +143,32 @@ impl Packing<'_> {
         }
     }
 
-    /// Grows the lattice from the samples in `front` (index, position, metric) until no
-    /// proposal fits.
-    fn grow(&mut self, front: &mut VecDeque<(usize, DVec2, Tensor)>, phase: f64) {
+    /// Grows the lattice from the samples in `front` (index, position, metric, the lattice
+    /// directions to propose as bits) until no proposal fits. Samples the front adds propose
+    /// all six.
+    fn grow(&mut self, front: &mut VecDeque<(usize, DVec2, Tensor, u8)>, phase: f64) {
         // The six directions relative to the long axis, turned onto it per sample.
         let turns: [DVec2; 6] = std::array::from_fn(|k| {
             let (s, c) = (phase + std::f64::consts::FRAC_PI_3 * k as f64).sin_cos();
             DVec2::new(c, s)
         });
-        while let Some((k, p, m)) = front.pop_front() {
+        while let Some((k, p, m, directions)) = front.pop_front() {
             let axis = long_axis_direction(&m);
             let short = short_semi_axis(&m);
-            for turn in turns {
+            for (bit, turn) in turns.into_iter().enumerate() {
+                if directions & (1 << bit) == 0 {
+                    continue;
+                }
                 let u = axis.rotate(turn);
                 let reach = m.mul_vec(u);
                 // Eq. 4's d = 1 with both ellipses: the second one's radius taken at the guess.
                 let guess = p + 2.0 * reach;
                 let q = p + reach + self.metric.sample(guess).mul_vec(u);
                 match self.try_add(q, short) {
-                    Proposal::Added(mq) => front.push_back((self.positions.len() - 1, q, mq)),
-                    Proposal::NearMiss => self.near_miss[k] = true,
+                    Proposal::Added(mq) => {
+                        front.push_back((self.positions.len() - 1, q, mq, ALL_DIRECTIONS));
+                    }
+                    Proposal::NearMiss => self.near_miss[k] |= 1 << bit,
                     Proposal::Refused => {}
                 }
             }
@@ -167,7 +181,7 @@ impl Packing<'_> {
         let Proposal::Added(m) = self.try_add(s, 0.0) else {
             return false;
         };
-        let mut front = VecDeque::from([(self.positions.len() - 1, s, m)]);
+        let mut front = VecDeque::from([(self.positions.len() - 1, s, m, ALL_DIRECTIONS)]);
         self.grow(&mut front, phase);
         true
     }
@@ -189,6 +203,7 @@ pub fn lattice_seeding(
     let mut packing = Packing {
         metric,
         rho: params.rho,
+        fill_rho: params.fill_rho,
         grid: CellGrid::for_field(metric, fixed.len() + expected),
         positions: Vec::with_capacity(fixed.len() + expected + expected / 8),
         inverses: Vec::new(),
@@ -213,14 +228,19 @@ pub fn lattice_seeding(
         }
         seeds = packing.grid.empty_cells().collect();
     }
-    // The seams and the holes too small for a front: the samples that met a seam propose
-    // their neighbours again, accepted at the closer `fill_rho` (every other sample's
-    // proposals all landed on taken lattice points or outside, and would again).
+    // The seams and the holes too small for a front: the proposals that met a seam are made
+    // again, accepted at the closer `fill_rho` (every other proposal landed on a taken lattice
+    // point or outside, and would again: the same seeds as proposing all six, with 40 % of the
+    // distance tests on the rotating 4:1 field).
     if params.fill_rho < packing.rho {
         packing.rho = params.fill_rho;
-        let mut front: VecDeque<(usize, DVec2, Tensor)> = (fixed.len()..packing.positions.len())
-            .filter(|&k| packing.near_miss[k])
-            .map(|k| (k, packing.positions[k], metric.sample(packing.positions[k])))
+        let mut front: VecDeque<(usize, DVec2, Tensor, u8)> = (fixed.len()
+            ..packing.positions.len())
+            .filter(|&k| packing.near_miss[k] != 0)
+            .map(|k| {
+                let p = packing.positions[k];
+                (k, p, metric.sample(p), packing.near_miss[k])
+            })
             .collect();
         packing.grow(&mut front, params.phase);
     }

@@ -112,17 +112,13 @@ pub struct Sampling {
 }
 
 /// The metric the sampler works on: the field box-averaged to a node spacing of about two
-/// thirds of the smallest ellipse's mean radius. The metric is smooth at that scale (photo
+/// thirds of the smallest ellipse's mean radius `smallest` (from the survey of the metric's
+/// nodes). The metric is smooth at that scale (photo
 /// metrics are smoothed with a σ of their ellipses' radius), and a field of a few megabytes
 /// instead of tens keeps the per-particle look-ups in cache: on a 1024² field they were half
 /// of the run.
 /// A field that needs no coarsening is borrowed, not copied (a 4096² field is 200 MB).
-fn sampling_field(field: &TensorField) -> std::borrow::Cow<'_, TensorField> {
-    let smallest = field
-        .data()
-        .par_iter()
-        .map(|&c| Tensor::from_f32(c).det().sqrt())
-        .reduce(|| f64::INFINITY, f64::min);
+fn sampling_field(field: &TensorField, smallest: f64) -> std::borrow::Cow<'_, TensorField> {
     let factor = (smallest / (1.5 * field.spacing())).floor();
     let factor = if factor.is_finite() {
         factor.clamp(1.0, 64.0) as usize
@@ -157,9 +153,10 @@ pub fn sample_observed(
 ) -> Result<Sampling> {
     params.validate()?;
     let start = Instant::now();
-    let estimate = validate_metric(full_field, params.max_samples)?;
+    let survey = validate_metric(full_field, params.max_samples)?;
+    let estimate = survey.estimate;
     observer.begin(Stage::Seeding, None);
-    let coarse = sampling_field(full_field);
+    let coarse = sampling_field(full_field, survey.smallest_radius);
     let field: &TensorField = &coarse;
     let mut stats = Stats {
         estimated_count: estimate,

@@ -212,15 +212,17 @@ impl SamplerParams {
 const MAX_AXIS_IN_DIAGONALS: f64 = 100.0;
 
 /// Checks that every tensor of `metric` is a usable metric and that the estimated count is
-/// within `max_samples`; returns the estimate.
-pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<f64> {
-    let diag = metric.diagonal();
-    let bad = metric.first_node_where(|t| {
+/// within `max_samples`; returns the survey (the estimate, the smallest radius).
+pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<seeding::Survey> {
+    let limit = MAX_AXIS_IN_DIAGONALS * metric.diagonal();
+    // A positive definite metric's long semi-axis is below its trace: the eigenvalue is
+    // computed only when the trace is over the limit.
+    let found = seeding::survey(metric, |t| {
         !t.is_finite()
             || !t.is_positive_definite()
-            || seeding::long_semi_axis(&t) > MAX_AXIS_IN_DIAGONALS * diag
+            || (t.xx + t.yy > limit && seeding::long_semi_axis(&t) > limit)
     });
-    if let Some((c, r)) = bad {
+    if let Some((c, r)) = found.first_bad {
         let e = metric.node(c, r).eigen();
         let p = metric.node_position(c, r);
         return Err(Error::param(
@@ -235,7 +237,7 @@ pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<f64> 
             ),
         ));
     }
-    let estimate = seeding::estimate_count(metric);
+    let estimate = found.estimate;
     if estimate.is_nan() || estimate > max_samples as f64 {
         return Err(Error::param(
             "metric",
@@ -245,5 +247,5 @@ pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<f64> 
             ),
         ));
     }
-    Ok(estimate)
+    Ok(found)
 }
