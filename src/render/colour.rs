@@ -35,24 +35,32 @@ pub fn to_linear(v: u8) -> f32 {
 #[inline]
 #[must_use]
 pub fn to_srgb(v: f32) -> u8 {
-    static LUT: OnceLock<Vec<u8>> = OnceLock::new();
-    // 4096 steps of linear light: finer than one code in the darks, where sRGB is steepest,
-    // only for the first few codes (measured error ≤ 1 code above code 5).
-    let lut = LUT.get_or_init(|| {
-        (0..=ENCODE_STEPS)
-            .map(|i| {
-                let c = i as f32 / ENCODE_STEPS as f32;
-                let e = if c <= 0.003_130_8 {
-                    12.92 * c
-                } else {
-                    1.055 * c.powf(1.0 / 2.4) - 0.055
-                };
-                (e * 255.0 + 0.5).clamp(0.0, 255.0) as u8
-            })
-            .collect()
-    });
-    let i = (v.clamp(0.0, 1.0) * ENCODE_STEPS as f32 + 0.5) as usize;
-    lut[i]
+    encode_table()[encode_index(v)]
+}
+
+/// The table of [`to_srgb`]: 4096 steps of linear light, finer than one code in the darks,
+/// where sRGB is steepest, only for the first few codes (measured error ≤ 1 code above
+/// code 5). An array in a static, so a look-up is one load after the first.
+fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
+    static LUT: OnceLock<[u8; ENCODE_STEPS + 1]> = OnceLock::new();
+    LUT.get_or_init(|| {
+        std::array::from_fn(|i| {
+            let c = i as f32 / ENCODE_STEPS as f32;
+            let e = if c <= 0.003_130_8 {
+                12.92 * c
+            } else {
+                1.055 * c.powf(1.0 / 2.4) - 0.055
+            };
+            (e * 255.0 + 0.5).clamp(0.0, 255.0) as u8
+        })
+    })
+}
+
+/// The table index of `v` (NaN and below 0 give 0, above 1 the last).
+#[inline]
+fn encode_index(v: f32) -> usize {
+    // Through i32, one instruction; the clamp keeps it in 0..=ENCODE_STEPS.
+    ((v.clamp(0.0, 1.0) * ENCODE_STEPS as f32 + 0.5) as i32) as usize
 }
 
 const ENCODE_STEPS: usize = 4096;
