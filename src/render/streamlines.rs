@@ -296,30 +296,44 @@ impl Occupancy {
         }
     }
 
-    /// Calls `f` with every point within one cell ring of `p`.
+    /// Calls `f` with every point within `reach` cell rings of `p`.
     fn near(&self, p: DVec2, reach: usize, mut f: impl FnMut(DVec2, (u32, i32))) {
+        self.any_near(p, reach, |q, tag| {
+            f(q, tag);
+            false
+        });
+    }
+
+    /// Whether `found` holds for a point within `reach` cell rings of `p`, stopping at the
+    /// first.
+    fn any_near(
+        &self,
+        p: DVec2,
+        reach: usize,
+        mut found: impl FnMut(DVec2, (u32, i32)) -> bool,
+    ) -> bool {
         let (c, r) = self.cell_of(p);
         for row in r.saturating_sub(reach)..=(r + reach).min(self.rows - 1) {
             for col in c.saturating_sub(reach)..=(c + reach).min(self.cols - 1) {
                 for &i in &self.cells[row * self.cols + col] {
-                    f(self.points[i as usize], self.tags[i as usize]);
+                    if found(self.points[i as usize], self.tags[i as usize]) {
+                        return true;
+                    }
                 }
             }
         }
+        false
     }
 
     /// No point within `radius` of `p`, other than points of line `line` at most `skip`
-    /// steps from sequence number `seq` (the line's own last steps).
+    /// steps from sequence number `seq` (the line's own last steps). Stops at the first such
+    /// point: most seeds are refused, by a point of the first cells read.
     fn clear(&self, p: DVec2, radius: f64, line: u32, seq: i32, skip: i32) -> bool {
-        let mut clear = true;
         let r2 = radius * radius;
-        self.near(p, 1, |q, (l, s)| {
+        !self.any_near(p, 1, |q, (l, s)| {
             let own_recent = l == line && (s - seq).abs() <= skip;
-            if !own_recent && q.distance_squared(p) < r2 {
-                clear = false;
-            }
-        });
-        clear
+            !own_recent && q.distance_squared(p) < r2
+        })
     }
 
     /// Point `i` of line `line`'s share across the lines: half the gap to the nearest other
