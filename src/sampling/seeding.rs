@@ -635,6 +635,52 @@ pub(super) mod tests {
         assert_no_pair_closer(&metric, &pts, rho);
     }
 
+    #[test]
+    fn conflict_matches_brute_force_with_varied_ellipses() {
+        // Ellipses from circles to 6:1, turned every way, sizes over 4x, registered at ρ 0.9;
+        // candidates tested at the registration's ρ and below it (the lattice's fill).
+        let metric = TensorField::constant(400, 300, Tensor::from_eigen(0.0, 6.0, 2.0));
+        let mut rng = Rng::new(21, 0);
+        let mut random_metric = |rng: &mut Rng| {
+            let b = 1.0 + 3.0 * rng.uniform();
+            Tensor::from_eigen(
+                std::f64::consts::PI * rng.uniform(),
+                b * (1.0 + 5.0 * rng.uniform()),
+                b,
+            )
+        };
+        let mut grid = CellGrid::for_field(&metric, 300);
+        let (mut positions, mut inverses) = (Vec::new(), Vec::new());
+        for id in 0..300u32 {
+            let p = DVec2::new(400.0 * rng.uniform(), 300.0 * rng.uniform());
+            let m = random_metric(&mut rng);
+            grid.insert(id, p, half_extents(&m), 0.9);
+            positions.push(p);
+            inverses.push(m.inverse().unwrap());
+        }
+        let mut conflicts = 0;
+        for _ in 0..3000 {
+            let c = DVec2::new(400.0 * rng.uniform(), 300.0 * rng.uniform());
+            let m = random_metric(&mut rng);
+            let inv = m.inverse().unwrap();
+            for rho in [0.9, 0.75] {
+                let found = conflict(&grid, &inverses, c, &inv, half_extents(&m), rho);
+                let brute = positions
+                    .iter()
+                    .zip(&inverses)
+                    .map(|(&p, q)| normalised_distance(c, &inv, p, q))
+                    .fold(f64::INFINITY, f64::min);
+                assert_eq!(found.is_some(), brute < rho, "at {c}: {found:?} vs {brute}");
+                if let Some(d) = found {
+                    assert!(d < rho);
+                    conflicts += 1;
+                }
+            }
+        }
+        // Both answers occur often enough for the test to mean something.
+        assert!(conflicts > 500 && conflicts < 5500, "{conflicts}");
+    }
+
     /// Brute force over all pairs: no two of `pts` closer than `rho` (eq. 4).
     pub(in crate::sampling) fn assert_no_pair_closer(
         metric: &TensorField,
