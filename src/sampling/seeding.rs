@@ -641,7 +641,7 @@ pub(super) mod tests {
         // candidates tested at the registration's ρ and below it (the lattice's fill).
         let metric = TensorField::constant(400, 300, Tensor::from_eigen(0.0, 6.0, 2.0));
         let mut rng = Rng::new(21, 0);
-        let mut random_metric = |rng: &mut Rng| {
+        let random_metric = |rng: &mut Rng| {
             let b = 1.0 + 3.0 * rng.uniform();
             Tensor::from_eigen(
                 std::f64::consts::PI * rng.uniform(),
