@@ -269,6 +269,13 @@ pub fn floor(x: f64) -> f64 {
     }
 }
 
+/// `x.ceil()` without a call into libm, as [`floor`] (exact for every `|x| < 2⁶³`).
+#[inline]
+#[must_use]
+pub fn ceil(x: f64) -> f64 {
+    -floor(-x)
+}
+
 /// Bilinear interpolation at `(x, y)` in texel units (texel `(i, j)` at `(i, j)`) of the
 /// texels `texel(i, j)` gives; the caller clamps or wraps indices outside the image.
 #[inline]
@@ -326,6 +333,7 @@ mod tests {
             -1e15 - 0.5,
         ] {
             assert_eq!(floor(x), f64::floor(x), "{x}");
+            assert_eq!(ceil(x), f64::ceil(x), "{x}");
         }
     }
 }

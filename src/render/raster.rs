@@ -8,6 +8,7 @@
 //! Positions are `f64`.
 
 use super::cellmap::CellMap;
+use super::colour::{ceil, floor};
 use super::voronoi::{Owner, VoronoiCells, NONE};
 use glam::DVec2;
 use rayon::prelude::*;
@@ -141,16 +142,17 @@ impl VoronoiCells<'_> {
             let v = [a, b, c].map(|i| self.positions()[i as usize] / step - DVec2::splat(0.5));
             let y_lo = v.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
             let y_hi = v.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
-            let r0 = (y_lo.ceil().max(first_row as f64)) as usize;
-            let r1 = (y_hi.floor() as i64).min((first_row + rows) as i64 - 1);
+            // floor and ceil without libm calls (baseline x86-64 has no rounding instruction).
+            let r0 = (ceil(y_lo).max(first_row as f64)) as usize;
+            let r1 = (floor(y_hi) as i64).min((first_row + rows) as i64 - 1);
             for gy in r0 as i64..=r1 {
                 let y = gy as f64;
                 let Some((x0, x1)) = span(&v, y) else {
                     continue;
                 };
                 // A hair wider than the exact span, so shared edges leave no gaps.
-                let lo = (x0 - 1e-9).ceil().max(0.0) as usize;
-                let hi = (x1 + 1e-9).floor().min(per_row as f64 - 1.0);
+                let lo = ceil(x0 - 1e-9).max(0.0) as usize;
+                let hi = floor(x1 + 1e-9).min(per_row as f64 - 1.0);
                 if hi < 0.0 || (lo as f64) > hi {
                     continue;
                 }
