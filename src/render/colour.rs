@@ -59,8 +59,9 @@ fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
 /// The table index of `v` (NaN and below 0 give 0, above 1 the last).
 #[inline]
 fn encode_index(v: f32) -> usize {
-    // Through i32, one instruction; the clamp keeps it in 0..=ENCODE_STEPS.
-    ((v.clamp(0.0, 1.0) * ENCODE_STEPS as f32 + 0.5) as i32) as usize
+    // Scaled first, then clamped as an integer (`as i32` saturates, NaN gives 0): the same
+    // index as clamping `v` to [0, 1] first.
+    ((v * ENCODE_STEPS as f32 + 0.5) as i32).clamp(0, ENCODE_STEPS as i32) as usize
 }
 
 const ENCODE_STEPS: usize = 4096;
@@ -316,6 +317,23 @@ mod tests {
         let mean: f32 = (0..10_000).map(|i| site_hash(i, 3)).sum::<f32>() / 10_000.0;
         assert!((mean - 0.5).abs() < 0.02);
         assert_ne!(site_hash(1, 0), site_hash(1, 1));
+    }
+
+    #[test]
+    fn encode_index_is_the_clamped_scaled_value() {
+        let reference = |v: f32| (v.clamp(0.0, 1.0) * ENCODE_STEPS as f32 + 0.5) as usize;
+        let mut values: Vec<f32> = (-5000..=1_100_000).map(|i| i as f32 / 1e6).collect();
+        values.extend([
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e30,
+            -1e30,
+            -0.0,
+        ]);
+        for v in values {
+            assert_eq!(encode_index(v), reference(v), "{v}");
+        }
     }
 
     #[test]
