@@ -4,6 +4,7 @@
 //! `f32` in [0, 1]; encoded values are `u8`.
 
 use super::raster::pixel_sums;
+use super::rounding::floor;
 use super::voronoi::VoronoiCells;
 use crate::field::Tensor;
 use image::DynamicImage;
@@ -256,27 +257,6 @@ pub fn rgb8(photo: &DynamicImage) -> std::borrow::Cow<'_, image::RgbImage> {
     }
 }
 
-/// `x.floor()` without a call into libm (the baseline x86-64 target has no rounding
-/// instruction, and per-pixel texture code floors several times a pixel); exact for every
-/// `|x| < 2⁶³`, which is all a picture's coordinates.
-#[inline]
-#[must_use]
-pub fn floor(x: f64) -> f64 {
-    let t = x as i64 as f64;
-    if t > x {
-        t - 1.0
-    } else {
-        t
-    }
-}
-
-/// `x.ceil()` without a call into libm, as [`floor`] (exact for every `|x| < 2⁶³`).
-#[inline]
-#[must_use]
-pub fn ceil(x: f64) -> f64 {
-    -floor(-x)
-}
-
 /// Bilinear interpolation at `(x, y)` in texel units (texel `(i, j)` at `(i, j)`) of the
 /// texels `texel(i, j)` gives; the caller clamps or wraps indices outside the image.
 #[inline]
@@ -333,25 +313,6 @@ mod tests {
         ]);
         for v in values {
             assert_eq!(encode_index(v), reference(v), "{v}");
-        }
-    }
-
-    #[test]
-    fn floor_is_the_floor() {
-        for x in [
-            -2.5,
-            -2.0,
-            -1e-300,
-            -0.0,
-            0.0,
-            0.3,
-            1.0,
-            7.999_999_999,
-            1e15 + 0.5,
-            -1e15 - 0.5,
-        ] {
-            assert_eq!(floor(x), f64::floor(x), "{x}");
-            assert_eq!(ceil(x), f64::ceil(x), "{x}");
         }
     }
 }

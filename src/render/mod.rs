@@ -22,6 +22,7 @@ pub mod outline;
 pub mod pieces;
 pub mod preview;
 pub mod raster;
+pub mod rounding;
 pub mod scene;
 pub mod sheet;
 pub mod stipple;

@@ -8,7 +8,7 @@
 //! Positions are `f64`.
 
 use super::cellmap::CellMap;
-use super::colour::{ceil, floor};
+use super::rounding::{ceil, floor};
 use super::voronoi::{Owner, VoronoiCells, NONE};
 use glam::DVec2;
 use rayon::prelude::*;

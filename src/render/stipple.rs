@@ -5,7 +5,8 @@
 //! raster ([`super::texture`]) and the SVG ([`super::svg`]) place the same dots. `f64` in
 //! domain units; coverage `f32`.
 
-use super::colour::{floor, salt, site_hash};
+use super::colour::{salt, site_hash};
+use super::rounding::floor;
 use glam::DVec2;
 
 /// Ink coverage (0 to 1) at `local` (domain units in the cell's frame) of the dots of cell

@@ -14,10 +14,9 @@
 //! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
-use super::colour::{
-    bilinear, floor, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32,
-};
+use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
 use super::mosaic::border_coverage;
+use super::rounding::floor;
 use super::scene::Scene;
 use super::stipple::stipple_radius;
 use glam::DVec2;
