@@ -27,15 +27,15 @@ pub fn boundary_samples(metric: &TensorField, rng: &mut Rng) -> Vec<DVec2> {
         DVec2::new(0.0, d.y),
     ];
     let mut out = corners.to_vec();
-    let mut lines: Vec<Edge> = (0..4)
+    let mut sides: Vec<Edge> = (0..4)
         .into_par_iter()
         .map(|i| Edge::subdivided(metric, corners[i], corners[(i + 1) % 4]))
         .collect();
-    for line in &mut lines {
-        line.jitter(rng);
+    for side in &mut sides {
+        side.jitter(rng);
     }
-    lines.par_iter_mut().for_each(|line| line.relax(metric));
-    let mut edges: Vec<Vec<DVec2>> = lines.iter().map(Edge::points).collect();
+    sides.par_iter_mut().for_each(|side| side.relax(metric));
+    let mut edges: Vec<Vec<DVec2>> = sides.iter().map(Edge::points).collect();
     for (i, &corner) in corners.iter().enumerate() {
         // Edge i leaves corner i; edge i − 1 arrives at it.
         let before = (i + 3) % 4;
