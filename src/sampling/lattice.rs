@@ -21,8 +21,8 @@
 //! proposal (six per sample), far fewer distance tests than relaxation dart throwing, whose
 //! rejections dominate its cost.
 
+use super::cellgrid::{conflict, half_extents, short_semi_axis, CellGrid};
 use super::rng::Rng;
-use super::seeding::{conflict, half_extents, short_semi_axis, CellGrid};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use std::collections::VecDeque;
@@ -83,9 +83,9 @@ struct Packing<'a> {
 /// already there lands on a taken lattice point: most of a grown lattice's proposals (on the
 /// rotating 4:1 field, 65 000 of 95 000). Eq. 4's `d` to that sample is then under 0.5 (at
 /// most the smallest `fill_rho`) unless the ellipses there are under half the proposer's
-/// size, so the exact test would refuse it too, for the front and the fill (the seeds came out the same on the rotating field and photos), and
-/// it is refused without the metric look-up and the distance tests. Refusing is always safe:
-/// no overlap can come of it.
+/// size, so the exact test would refuse it too, for the front and the fill (the seeds came
+/// out the same on the rotating field and photos), and it is refused without the metric
+/// look-up and the distance tests. Refusing is always safe: no overlap can come of it.
 const TAKEN: f64 = 0.25;
 
 /// Every lattice direction of [`Packing::grow`], as bits.
@@ -95,7 +95,8 @@ const ALL_DIRECTIONS: u8 = 0b11_1111;
 enum Proposal {
     /// Accepted, with its metric.
     Added(Tensor),
-    /// Outside the domain, or its lattice point taken.
+    /// Outside the domain, or refused by a sample closer than the fill's ρ (its lattice
+    /// point taken): the fill would refuse it too.
     Refused,
     /// Refused by a sample at `d` of at least the fill's ρ: a seam the fill may close.
     NearMiss,

@@ -6,7 +6,8 @@
 //! 1. [`boundary`]: fixed corner and edge samples;
 //! 2. the interior's seed: a metric-aligned hexagonal lattice grown as a front ([`lattice`]),
 //!    by default from [`params::LATTICE_FROM_COUNT`] estimated samples up, or the paper's
-//!    relaxation dart throwing up to the estimated count ([`seeding`]);
+//!    relaxation dart throwing up to the estimated count ([`seeding`]), both testing their
+//!    candidates exactly in the [`cellgrid`];
 //! 3. [`delaunay`]: the anisotropic Delaunay triangulation, whose one-rings are the only
 //!    neighbours a particle feels;
 //! 4. iterations of the force spline ([`force`]) with Euler integration of eq. 5 (Δt = 0.2,
@@ -30,6 +31,7 @@
 //! slot per particle and only `max` is reduced.
 
 pub mod boundary;
+pub mod cellgrid;
 pub mod delaunay;
 pub mod distance;
 pub mod edges;

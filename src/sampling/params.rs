@@ -3,6 +3,7 @@
 //! at 0.6, 100 iterations, repair every 8), the force scale and drag derived from a linearised
 //! packing, and the checks a metric must pass before any work ([`validate_metric`]).
 
+use super::cellgrid;
 use super::force;
 use super::lattice::LatticeParams;
 use super::seeding::{self, DartParams};
@@ -220,7 +221,7 @@ pub fn validate_metric(metric: &TensorField, max_samples: usize) -> Result<seedi
     let found = seeding::survey(metric, |t| {
         !t.is_finite()
             || !t.is_positive_definite()
-            || (t.xx + t.yy > limit && seeding::long_semi_axis(&t) > limit)
+            || (t.xx + t.yy > limit && cellgrid::long_semi_axis(&t) > limit)
     });
     if let Some((c, r)) = found.first_bad {
         let e = metric.node(c, r).eigen();
