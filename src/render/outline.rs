@@ -92,12 +92,33 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
         }
     });
     // Step 2: averaged along the flow, both ways from every node.
+    along_flow(&dog, &normals, cols, rows, sigma_c, true)
+}
+
+/// Ink per node from the responses `dog` averaged along the flow of `normals` (a Gaussian of
+/// σ_m = [`ALONG`]·`sigma_c`, both ways from every node), through the soft threshold. With
+/// `skip_quiet`, nodes whose walk can only read responses of at least `−FLOOR` are not walked
+/// ([`QuietTiles`]): the same result.
+fn along_flow(
+    dog: &[f32],
+    normals: &[[f32; 2]],
+    cols: usize,
+    rows: usize,
+    sigma_c: f32,
+    skip_quiet: bool,
+) -> Vec<f32> {
     let sigma_m = ALONG * sigma_c;
     let steps = (2.0 * sigma_m).ceil() as usize;
     let weights: Vec<f32> = (0..=steps)
         .map(|s| (-(s as f32).powi(2) / (2.0 * sigma_m * sigma_m)).exp())
         .collect();
+    // A walk of `steps` unit steps reads nodes up to `steps + 1` away (a bilinear read takes
+    // the next node on); one more for the rounding of the steps' length.
+    let quiet = skip_quiet.then(|| QuietTiles::new(dog, cols, rows, steps + 2));
     per_node(cols, rows, |c, r| {
+        if quiet.as_ref().is_some_and(|q| q.is_quiet(c, r)) {
+            return 0.0;
+        }
         let k = r * cols + c;
         let start = (c as f32, r as f32);
         let mut sum = weights[0] * dog[k];
@@ -112,7 +133,7 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
                 if x < 0.0 || y < 0.0 || x > (cols - 1) as f32 || y > (rows - 1) as f32 {
                     break;
                 }
-                sum += w * bilinear_inside(&dog, cols, rows, x, y);
+                sum += w * bilinear_inside(dog, cols, rows, x, y);
                 total += w;
                 // Follow the tangent there, keeping the direction of travel.
                 // The nearest node (x, y ≥ 0 here: `+ 0.5` and truncation round, and
@@ -134,6 +155,67 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
             0.0
         }
     })
+}
+
+/// Where the flow walk cannot ink: tiles of the grid whose surroundings hold no response
+/// below the threshold. The walk from a node averages the responses it reads within `reach`
+/// nodes of it (bilinear reads of nodes one step on), with positive weights, so where every
+/// response it can read is at least `−FLOOR` (with a margin far above rounding), its average
+/// is too and the node draws nothing: the walk is skipped, with the same result. On photos,
+/// most nodes are far from an edge's dark side.
+struct QuietTiles {
+    /// Per tile, whether the lowest response over the tiles within `reach` nodes of it is
+    /// at least `QUIET_ABOVE`.
+    quiet: Vec<bool>,
+    tiles_per_row: usize,
+    side: usize,
+}
+
+/// Side of the quiet tiles in nodes: small tiles follow the responses closely (4 against
+/// 8 skipped about a tenth more of the walks on photos), while the tiles' lows stay cheap to
+/// compare.
+const QUIET_TILE: usize = 4;
+
+/// Responses at least this high cannot average to ink (`−FLOOR` with a margin of 10⁻⁶, some
+/// thousand times the rounding of an average of a dozen `f32` responses of this size).
+const QUIET_ABOVE: f32 = -FLOOR + 1e-6;
+
+impl QuietTiles {
+    /// Tiles of [`QUIET_TILE`] nodes a side over the `cols × rows` responses `dog`, for walks
+    /// that read nodes up to `reach` away: a tile is quiet when the tiles within `reach`
+    /// nodes of it (`⌈reach / side⌉` tiles each way) hold no response under `QUIET_ABOVE`.
+    fn new(dog: &[f32], cols: usize, rows: usize, reach: usize) -> Self {
+        let side = QUIET_TILE;
+        let span = reach.div_ceil(side);
+        let (tx, ty) = (cols.div_ceil(side), rows.div_ceil(side));
+        // The lowest response per tile, tile rows in parallel.
+        let mut low = vec![f32::INFINITY; tx * ty];
+        low.par_chunks_mut(tx).enumerate().for_each(|(j, tiles)| {
+            for r in j * side..((j + 1) * side).min(rows) {
+                for (i, t) in tiles.iter_mut().enumerate() {
+                    let row = &dog[r * cols + i * side..r * cols + ((i + 1) * side).min(cols)];
+                    *t = row.iter().fold(*t, |m, &v| m.min(v));
+                }
+            }
+        });
+        let quiet = per_node(tx, ty, |i, j| {
+            (j.saturating_sub(span)..(j + span + 1).min(ty)).all(|n| {
+                (i.saturating_sub(span)..(i + span + 1).min(tx))
+                    .all(|m| low[n * tx + m] >= QUIET_ABOVE)
+            })
+        });
+        QuietTiles {
+            quiet,
+            tiles_per_row: tx,
+            side,
+        }
+    }
+
+    /// Whether node (`c`, `r`)'s walk cannot ink.
+    #[inline]
+    fn is_quiet(&self, c: usize, r: usize) -> bool {
+        self.quiet[(r / self.side) * self.tiles_per_row + c / self.side]
+    }
 }
 
 /// Lays the outlines of `photo` over `image`, the painting at any size of `domain` (the
@@ -325,6 +407,46 @@ fn bilinear_inside(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn skipping_quiet_tiles_changes_no_node() {
+        // Responses like a photo's: mostly small and positive, the dark side of a curved
+        // edge, and a grain of values just under and over the threshold; normals that turn.
+        let (cols, rows) = (150usize, 110usize);
+        let mut dog = vec![0.002f32; cols * rows];
+        let mut normals = vec![[1.0f32, 0.0]; cols * rows];
+        for r in 0..rows {
+            for c in 0..cols {
+                let (x, y) = (c as f32, r as f32);
+                let k = r * cols + c;
+                let angle = 0.03 * x + 0.05 * y;
+                normals[k] = [angle.cos(), angle.sin()];
+                let ring = ((x - 40.0).hypot(y - 50.0) - 25.0).abs();
+                // A thin, strong line: walks that cross it from several nodes away ink.
+                if ring < 0.7 {
+                    dog[k] = -1.0;
+                } else if (c * 7 + r * 13) % 97 == 0 {
+                    dog[k] = if c % 2 == 0 {
+                        -FLOOR - 0.004
+                    } else {
+                        -FLOOR + 0.0005
+                    };
+                }
+            }
+        }
+        for sigma_c in [0.5f32, 1.0, 2.0] {
+            let all = along_flow(&dog, &normals, cols, rows, sigma_c, false);
+            let skipped = along_flow(&dog, &normals, cols, rows, sigma_c, true);
+            let inked = all.iter().filter(|&&v| v > 0.0).count();
+            assert!(
+                inked > 500 && inked < cols * rows / 2,
+                "{inked} inked nodes"
+            );
+            for (k, (a, b)) in all.iter().zip(&skipped).enumerate() {
+                assert_eq!(a.to_bits(), b.to_bits(), "node {k}, sigma_c {sigma_c}");
+            }
+        }
+    }
 
     #[test]
     fn major_axis_matches_the_eigen_angle() {
