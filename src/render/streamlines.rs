@@ -142,6 +142,7 @@ pub fn streamlines(
         }
     }
     let Tracer { grid, lines, .. } = tracer;
+    let grid = grid.packed();
     lines
         .into_par_iter()
         .enumerate()
@@ -275,10 +276,28 @@ impl Occupancy {
     }
 
     fn cell_of(&self, p: DVec2) -> (usize, usize) {
-        (
-            ((p.x / self.cell).max(0.0) as usize).min(self.cols - 1),
-            ((p.y / self.cell).max(0.0) as usize).min(self.rows - 1),
-        )
+        cell_of(p, self.cell, self.cols, self.rows)
+    }
+
+    /// The points packed cell by cell, row-major, for the queries that follow the tracing.
+    fn packed(self) -> PackedGrid {
+        let mut offsets = Vec::with_capacity(self.cells.len() + 1);
+        let mut points = Vec::with_capacity(self.points.len());
+        offsets.push(0u32);
+        for cell in &self.cells {
+            points.extend(
+                cell.iter()
+                    .map(|&i| (self.points[i as usize], self.tags[i as usize].0)),
+            );
+            offsets.push(points.len() as u32);
+        }
+        PackedGrid {
+            cell: self.cell,
+            cols: self.cols,
+            rows: self.rows,
+            offsets,
+            points,
+        }
     }
 
     fn insert(&mut self, p: DVec2, line: u32, seq: i32) {
@@ -294,14 +313,6 @@ impl Occupancy {
             self.cells[r * self.cols + c].pop();
             self.tags.pop();
         }
-    }
-
-    /// Calls `f` with every point within `reach` cell rings of `p`.
-    fn near(&self, p: DVec2, reach: usize, mut f: impl FnMut(DVec2, (u32, i32))) {
-        self.any_near(p, reach, |q, tag| {
-            f(q, tag);
-            false
-        });
     }
 
     /// Whether `found` holds for a point within `reach` cell rings of `p`, stopping at the
@@ -335,6 +346,41 @@ impl Occupancy {
             !own_recent && q.distance_squared(p) < r2
         })
     }
+}
+
+/// Column and row of the cell (side `cell`) holding `p` in a `cols × rows` grid, clamped.
+fn cell_of(p: DVec2, cell: f64, cols: usize, rows: usize) -> (usize, usize) {
+    (
+        ((p.x / cell).max(0.0) as usize).min(cols - 1),
+        ((p.y / cell).max(0.0) as usize).min(rows - 1),
+    )
+}
+
+/// The occupancy grid once the lines are laid: every cell's points (with their line) in one
+/// array, cell after cell, row-major, so the five cells of a row that a share reads are one
+/// contiguous run instead of five separate vectors (the shares were an eighth of an
+/// engraving).
+struct PackedGrid {
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    /// Where each cell's points start in `points`, one per cell plus one.
+    offsets: Vec<u32>,
+    /// Position and line of every point.
+    points: Vec<(DVec2, u32)>,
+}
+
+impl PackedGrid {
+    /// The points within two cell rings of `p` (rows of five cells, each row one run).
+    fn near(&self, p: DVec2) -> impl Iterator<Item = (DVec2, u32)> + '_ {
+        let (c, r) = cell_of(p, self.cell, self.cols, self.rows);
+        let (c0, c1) = (c.saturating_sub(2), (c + 2).min(self.cols - 1));
+        (r.saturating_sub(2)..=(r + 2).min(self.rows - 1)).flat_map(move |row| {
+            let start = self.offsets[row * self.cols + c0] as usize;
+            let end = self.offsets[row * self.cols + c1 + 1] as usize;
+            self.points[start..end].iter().copied()
+        })
+    }
 
     /// Point `i` of line `line`'s share across the lines: half the gap to the nearest other
     /// line on its left plus half that on its right.
@@ -347,13 +393,13 @@ impl Occupancy {
         let (mut left, mut right) = (d_sep, d_sep);
         let (mut found_left, mut found_right) = (false, false);
         let band = STEP_RATIO * d_sep;
-        self.near(p, 2, |q, (l, _)| {
+        for (q, l) in self.near(p) {
             if l == line {
-                return;
+                continue;
             }
             let v = q - p;
             if v.dot(t).abs() > band {
-                return;
+                continue;
             }
             let across = v.dot(n);
             if across > 0.0 && across < reach && (!found_left || across < left) {
@@ -363,7 +409,7 @@ impl Occupancy {
                 right = -across;
                 found_right = true;
             }
-        });
+        }
         0.5 * (left + right)
     }
 }
