@@ -59,7 +59,7 @@ pub(super) fn next(h: usize) -> usize {
 }
 
 #[inline]
-fn prev(h: usize) -> usize {
+pub(super) fn prev(h: usize) -> usize {
     if h.is_multiple_of(3) {
         h + 2
     } else {
@@ -73,7 +73,7 @@ fn coord(p: DVec2) -> Coord<f64> {
 
 /// Exact orientation: positive when `a, b, c` turn counter-clockwise (y down: clockwise on screen).
 #[inline]
-fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+pub(super) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     robust::orient2d(coord(a), coord(b), coord(c))
 }
 
@@ -270,7 +270,7 @@ impl AnisotropicDelaunay {
         [h1 as u32 + 1, h1 as u32 + 2, h2 as u32 + 1, h2 as u32 + 2]
     }
 
-    fn link(&mut self, h: usize, other: u32) {
+    pub(super) fn link(&mut self, h: usize, other: u32) {
         self.twin[h] = other;
         if other != NONE {
             self.twin[other as usize] = h as u32;
@@ -445,20 +445,22 @@ fn compute_twins(origin: &[u32], num_vertices: usize) -> Vec<u32> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::field::Tensor;
     use crate::sampling::rng::Rng;
     use std::collections::BTreeSet;
 
-    fn random_points(n: usize, seed: u64) -> Vec<DVec2> {
+    pub(in crate::sampling) fn random_points(n: usize, seed: u64) -> Vec<DVec2> {
         let mut r = Rng::new(seed, 0);
         (0..n)
             .map(|_| DVec2::new(r.uniform() * 100.0, r.uniform() * 80.0))
             .collect()
     }
 
-    fn edge_set(tris: impl Iterator<Item = [u32; 3]>) -> BTreeSet<(u32, u32)> {
+    pub(in crate::sampling) fn edge_set(
+        tris: impl Iterator<Item = [u32; 3]>,
+    ) -> BTreeSet<(u32, u32)> {
         let mut s = BTreeSet::new();
         for [a, b, c] in tris {
             for (x, y) in [(a, b), (b, c), (c, a)] {

@@ -15,8 +15,9 @@
 //!    the triangulation repaired every `k` iterations; particles at rest sleep until a
 //!    neighbour moves;
 //! 5. [`population`] control at each repair but in the last (settling) iterations: insert into
-//!    poorly filled triangles, delete overcrowded samples; while settling, the force scale
-//!    eases off so the packing comes to rest;
+//!    poorly filled triangles (splitting them), delete overcrowded samples (filling their
+//!    holes, `removal.rs`); while settling, the force scale eases off so the packing comes to
+//!    rest;
 //! 6. stop when the largest step is a tiny fraction of the local size, or after the maximum
 //!    number of iterations.
 //!
@@ -42,6 +43,7 @@ mod particles;
 pub mod population;
 pub mod quality;
 mod relax;
+mod removal;
 pub mod report;
 pub mod rng;
 pub mod seeding;

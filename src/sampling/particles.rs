@@ -108,10 +108,8 @@ impl Particles {
     }
 
     /// Removes the samples at the sorted indices `gone` (none of them fixed), keeping order.
-    pub(super) fn remove(&mut self, gone: &[u32]) {
-        if gone.is_empty() {
-            return;
-        }
+    /// Returns every old index's new one (the removed ones' entries are unused).
+    pub(super) fn remove(&mut self, gone: &[u32]) -> Vec<u32> {
         let mut k = 0;
         let kept: Vec<u32> = (0..self.positions.len() as u32)
             .filter(|&i| {
@@ -120,7 +118,14 @@ impl Particles {
                 !drop
             })
             .collect();
-        self.keep_in_order(&kept);
+        let mut new_index = vec![u32::MAX; self.positions.len()];
+        for (new, &old) in kept.iter().enumerate() {
+            new_index[old as usize] = new as u32;
+        }
+        if !gone.is_empty() {
+            self.keep_in_order(&kept);
+        }
+        new_index
     }
 
     /// Keeps the particles `order` lists, in that order, in every per-particle array.

@@ -75,7 +75,8 @@ pub(super) fn repair(
 
 /// Inserts into poorly filled triangles and deletes overcrowded samples (`edges` are `mesh`'s),
 /// and returns the triangulation of the new population: insertions split their triangle in
-/// place (then Lawson flips), deletions need a new triangulation.
+/// place, deletions fill their star's hole (a new triangulation only where a hole cannot be
+/// filled), then Lawson flips.
 pub(super) fn control_population(
     mut mesh: AnisotropicDelaunay,
     edges: &Edges,
@@ -108,10 +109,16 @@ pub(super) fn control_population(
     }
     stats.population_time += t.elapsed();
     if !gone.is_empty() {
-        particles.remove(&gone);
-        return rebuild(particles, field, stats);
-    }
-    if new.is_empty() {
+        let t = Instant::now();
+        let removed = mesh.remove_vertices(&gone, &particles.positions, field);
+        take_flip_counts(&mut mesh, stats);
+        stats.triangulation_time += t.elapsed();
+        if !removed {
+            particles.remove(&gone);
+            return rebuild(particles, field, stats);
+        }
+        mesh.renumber(&particles.remove(&gone));
+    } else if new.is_empty() {
         return repair(mesh, particles, field, stats);
     }
     // Keep memory in spatial order for the next iterations, then restore the criterion.
