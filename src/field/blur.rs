@@ -177,11 +177,13 @@ pub fn gaussian_blur_u8_parallel(
     out
 }
 
-/// `v.round().clamp(0.0, 255.0) as u8` for a blurred byte value, without the libm `roundf`
-/// call that baseline x86-64 makes for `round` (a tenth of the blur's time): truncation and
-/// the exact fraction give the same rounding, half away from zero.
+/// `v.round().clamp(0.0, 255.0) as u8` for a value meant as a byte (a blurred one, an inked
+/// one), without the libm `roundf` call that baseline x86-64 makes for `round` (a tenth of
+/// the blur's time): truncation and the exact fraction give the same rounding, half away from
+/// zero.
 #[inline]
-fn round_to_byte(v: f32) -> u8 {
+#[must_use]
+pub fn round_to_byte(v: f32) -> u8 {
     // Blurred bytes lie in [0, 255] up to rounding; the clamp keeps `as i32` in range and
     // NaN (never produced) at 0.
     let c = v.clamp(-1.0, 256.0);
