@@ -287,7 +287,7 @@ struct PictureGrid {
     rows: usize,
     /// Per picture column: grid column, the next one (clamped) and the weight of the next.
     columns: Vec<(usize, usize, f32)>,
-    /// Picture rows per domain unit, and domain units per grid node.
+    /// Domain units per picture row, and per grid node.
     step_y: f64,
     spacing: f64,
 }
@@ -346,10 +346,11 @@ fn grid_weights(g: f32, n: usize) -> (usize, usize, f32) {
 }
 
 /// The unit major eigenvector of `t` with a non-negative x (the `cos`, `sin` of
-/// [`crate::field::Tensor::eigen`]'s angle in (−π/2, π/2]), from half-angle formulas instead of `atan2`,
-/// `cos` and `sin`: the cosine and sine of twice the angle are `h/r` and `b/r` (`h` the
-/// half-difference of the diagonal, `b` the off-diagonal, `r = √(h² + b²)`), and each half is
-/// taken on the side where it does not cancel. `(1, 0)` for an isotropic tensor, as `eigen`.
+/// [`crate::field::Tensor::eigen`]'s angle in (−π/2, π/2]), from half-angle formulas instead
+/// of `atan2`, `cos` and `sin`: the cosine and sine of twice the angle are `h/r` and `b/r`
+/// (`h` the half-difference of the diagonal, `b` the off-diagonal, `r = √(h² + b²)`), and each
+/// half is taken on the side where it does not cancel. `(1, 0)` for an isotropic tensor, as
+/// `eigen`.
 fn major_axis(t: &crate::field::Tensor) -> [f32; 2] {
     let (h, b) = (0.5 * (t.xx - t.yy), t.xy);
     // Scaled by the larger of the two, so that no square underflows (the angle only depends

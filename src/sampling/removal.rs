@@ -10,10 +10,9 @@ use crate::field::TensorField;
 use glam::DVec2;
 
 impl AnisotropicDelaunay {
-    /// Removes the interior vertices `gone` (sorted), each star's hole
-    /// triangulated by ear clipping and then made legal by Lawson flips from the edges around
-    /// the holes, as [`Self::legalize_around`] does: the local counterpart of a fresh build
-    /// without them. Vertex indices are kept (the gone ones are no longer used: renumber after
+    /// Removes the interior vertices `gone` (sorted), each star's hole triangulated by ear
+    /// clipping and then made legal by Lawson flips from the edges around the holes, as
+    /// [`Self::legalize_around`] does: the local counterpart of a fresh build without them. Vertex indices are kept (the gone ones are no longer used: renumber after
     /// removing the points). Returns `false`, with the mesh unchanged, when one of them lies on
     /// the hull, neighbours another, or its hole has no ear to clip at `points` (degenerate):
     /// then rebuild.
@@ -78,6 +77,7 @@ impl AnisotropicDelaunay {
             ring.push(self.origin[next(h)]);
             outer.push(self.twin[next(h)]);
             let back = self.twin[prev(h)];
+            // (No star of a valid mesh comes near 64 triangles; a broken one cannot loop.)
             if back == NONE || slots.len() > 64 {
                 return None;
             }
@@ -99,7 +99,8 @@ impl AnisotropicDelaunay {
     /// and to the triangles around the hole, and marks the two slots left over in `dead`.
     fn fill_hole(&mut self, plan: &HolePlan, dead: &mut [bool]) {
         let k = plan.ring.len();
-        // Ring index of every corner of every ear, then the half-edge of each directed edge.
+        // The ears' corners into the slots, then every ear edge's twin: the triangle outside
+        // the hole for a side of it, the other ear for a diagonal.
         for (e, &[i, j, l]) in plan.ears.iter().enumerate() {
             let h = 3 * plan.slots[e];
             self.origin[h..h + 3].copy_from_slice(&[plan.ring[i], plan.ring[j], plan.ring[l]]);
