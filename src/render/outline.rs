@@ -177,9 +177,11 @@ struct QuietTiles {
 /// compare.
 const QUIET_TILE: usize = 4;
 
-/// Responses at least this high cannot average to ink (`−FLOOR` with a margin of 10⁻⁶, some
-/// thousand times the rounding of an average of a dozen `f32` responses of this size).
-const QUIET_ABOVE: f32 = -FLOOR + 1e-6;
+/// Responses at least this high cannot average to ink: `−FLOOR` with a margin of 10⁻⁵. A
+/// response is a difference of Gaussians of lightness in [0, 1], under 1 in size, so the
+/// `f32` average of the few dozen a walk reads rounds by about 10⁻⁶ at most: the margin is ten
+/// times that.
+const QUIET_ABOVE: f32 = -FLOOR + 1e-5;
 
 impl QuietTiles {
     /// Tiles of [`QUIET_TILE`] nodes a side over the `cols × rows` responses `dog`, for walks
