@@ -73,27 +73,33 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
             (0.0..=(cols - 1) as f32).contains(&x) && (0.0..=(rows - 1) as f32).contains(&y)
         };
         if inside(tap(0)) && inside(tap(across.len() - 1)) {
-            across
-                .iter()
-                .enumerate()
-                .map(|(i, w)| {
-                    let (x, y) = tap(i);
-                    w * bilinear_inside(&light, cols, rows, x, y)
-                })
-                .sum()
+            weighted_taps(&across, tap, |x, y| {
+                bilinear_inside(&light, cols, rows, x, y)
+            })
         } else {
-            across
-                .iter()
-                .enumerate()
-                .map(|(i, w)| {
-                    let (x, y) = tap(i);
-                    w * bilinear(&light, cols, rows, x, y)
-                })
-                .sum()
+            weighted_taps(&across, tap, |x, y| bilinear(&light, cols, rows, x, y))
         }
     });
     // Step 2: averaged along the flow, both ways from every node.
     along_flow(&dog, &normals, cols, rows, sigma_c, true)
+}
+
+/// `Σ w_i · read(tap(i))` over the kernel `weights`: one loop for both ways of reading the
+/// grid (generic, so each is inlined).
+#[inline(always)]
+fn weighted_taps(
+    weights: &[f32],
+    tap: impl Fn(usize) -> (f32, f32),
+    read: impl Fn(f32, f32) -> f32,
+) -> f32 {
+    weights
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            let (x, y) = tap(i);
+            w * read(x, y)
+        })
+        .sum()
 }
 
 /// Ink per node from the responses `dog` averaged along the flow of `normals` (a Gaussian of
@@ -294,20 +300,13 @@ struct PictureGrid {
     spacing: f64,
 }
 
-/// A picture row's two grid rows (offsets of their first node) and the weight of the second.
-struct RowWeights {
-    upper: usize,
-    lower: usize,
-    weight: f32,
-}
-
 impl PictureGrid {
     fn new(tensor: &TensorField, domain: glam::DVec2, (w, h): (usize, usize)) -> Self {
         let (cols, rows) = (tensor.cols(), tensor.rows());
         let spacing = tensor.spacing();
         let step_x = domain.x / w as f64;
         let columns = (0..w)
-            .map(|x| grid_weights((((x as f64 + 0.5) * step_x) / spacing - 0.5) as f32, cols))
+            .map(|x| clamped_axis((((x as f64 + 0.5) * step_x) / spacing - 0.5) as f32, cols))
             .collect();
         PictureGrid {
             cols,
@@ -318,33 +317,47 @@ impl PictureGrid {
         }
     }
 
-    fn row(&self, y: usize) -> RowWeights {
+    /// Picture row `y`'s two grid rows and the weight of the second.
+    fn row(&self, y: usize) -> AxisWeights {
         let gy = (((y as f64 + 0.5) * self.step_y) / self.spacing - 0.5) as f32;
-        let (j, next, weight) = grid_weights(gy, self.rows);
-        RowWeights {
-            upper: j * self.cols,
-            lower: next * self.cols,
-            weight,
-        }
+        clamped_axis(gy, self.rows)
     }
 
+    /// The line map `values` at pixel (`x`, the row `across` was made for).
     #[inline]
-    fn value(&self, values: &[f32], row: &RowWeights, x: usize) -> f32 {
-        let (i, i1, tx) = self.columns[x];
-        let (r0, r1) = (row.upper, row.lower);
-        let top = values[r0 + i] + (values[r0 + i1] - values[r0 + i]) * tx;
-        let bottom = values[r1 + i] + (values[r1 + i1] - values[r1 + i]) * tx;
-        top + (bottom - top) * row.weight
+    fn value(&self, values: &[f32], across: &AxisWeights, x: usize) -> f32 {
+        blend(values, self.cols, self.columns[x], *across)
     }
 }
 
-/// Along one axis of `n` nodes, [`bilinear`]'s node, next node and weight at position `g`.
-fn grid_weights(g: f32, n: usize) -> (usize, usize, f32) {
-    let g = g.clamp(0.0, (n - 1) as f32);
+/// Along one axis: a node, the next one (clamped to the grid) and the weight of the next.
+type AxisWeights = (usize, usize, f32);
+
+/// [`AxisWeights`] at `g`, `0 ≤ g ≤ n − 1` (or NaN, which gives node 0 and a NaN weight):
+/// truncation is the floor. Through `u32` (grids are far smaller): on x86-64 an `f32` becomes
+/// a `u32` in one conversion with its clamps, and back likewise, where `usize` (a `u64`) takes
+/// a branchy sequence each way; the line map's 24 M reads of a 1 MP pen-hatch paint were
+/// 20 ms faster.
+#[inline(always)]
+fn axis(g: f32, n: usize) -> AxisWeights {
     let i = g as u32;
     let t = g - i as f32;
     let i = i as usize;
     (i, (i + 1).min(n - 1), t)
+}
+
+/// [`axis`] at `g` clamped to the grid, as [`bilinear`] reads it.
+fn clamped_axis(g: f32, n: usize) -> AxisWeights {
+    axis(g.clamp(0.0, (n - 1) as f32), n)
+}
+
+/// `values` (row-major, `cols` wide) blended between the columns and rows of `x` and `y`.
+#[inline(always)]
+fn blend(values: &[f32], cols: usize, (i, i1, tx): AxisWeights, (j, j1, ty): AxisWeights) -> f32 {
+    let (r0, r1) = (j * cols, j1 * cols);
+    let top = values[r0 + i] + (values[r0 + i1] - values[r0 + i]) * tx;
+    let bottom = values[r1 + i] + (values[r1 + i1] - values[r1 + i]) * tx;
+    top + (bottom - top) * ty
 }
 
 /// The unit major eigenvector of `t` with a non-negative x (the `cos`, `sin` of
@@ -445,9 +458,7 @@ fn dog_kernel(sigma_c: f32) -> Vec<f32> {
 /// line map reads tens of these per node, and they were a third of a pen-hatch paint.
 #[inline]
 fn bilinear(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
-    let x = x.clamp(0.0, (cols - 1) as f32);
-    let y = y.clamp(0.0, (rows - 1) as f32);
-    bilinear_inside(values, cols, rows, x, y)
+    blend(values, cols, clamped_axis(x, cols), clamped_axis(y, rows))
 }
 
 /// [`bilinear`] at a position already on the grid (`0 ≤ x ≤ cols − 1`, `0 ≤ y ≤ rows − 1`),
@@ -455,18 +466,7 @@ fn bilinear(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
 /// flow walk, which stops at the grid's edge, read the grid this way.
 #[inline(always)]
 fn bilinear_inside(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
-    // x, y ≥ 0 (or NaN, which gives 0 and a NaN weight): truncation is the floor. Through
-    // `u32` (grids are far smaller): on x86-64 an `f32` becomes a `u32` in one conversion
-    // with its clamps, and back likewise, where `usize` (a `u64`) takes a branchy sequence
-    // each way; the line map's 24 M reads of a 1 MP pen-hatch paint were 20 ms faster.
-    let (i, j) = (x as u32, y as u32);
-    let (tx, ty) = (x - i as f32, y - j as f32);
-    let (i, j) = (i as usize, j as usize);
-    let i1 = (i + 1).min(cols - 1);
-    let (r0, r1) = (j * cols, (j + 1).min(rows - 1) * cols);
-    let top = values[r0 + i] + (values[r0 + i1] - values[r0 + i]) * tx;
-    let bottom = values[r1 + i] + (values[r1 + i1] - values[r1 + i]) * tx;
-    top + (bottom - top) * ty
+    blend(values, cols, axis(x, cols), axis(y, rows))
 }
 
 #[cfg(test)]

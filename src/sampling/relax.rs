@@ -108,6 +108,7 @@ pub(super) fn control_population(
         particles.push(p, field);
     }
     stats.population_time += t.elapsed();
+    let mut kept_index = None;
     if !gone.is_empty() {
         let t = Instant::now();
         let removed = mesh.remove_vertices(&gone, &particles.positions, field);
@@ -117,12 +118,20 @@ pub(super) fn control_population(
             particles.remove(&gone);
             return rebuild(particles, field, stats);
         }
-        mesh.renumber(&particles.remove(&gone));
+        kept_index = Some(particles.remove(&gone));
     } else if new.is_empty() {
         return repair(mesh, particles, field, stats);
     }
-    // Keep memory in spatial order for the next iterations, then restore the criterion.
-    let new_index = particles.sort_spatially(field.domain());
+    // Keep memory in spatial order for the next iterations (one renumbering of the mesh for
+    // the removal and the sort together), then restore the criterion.
+    let sorted = particles.sort_spatially(field.domain());
+    let new_index = match kept_index {
+        Some(kept) => kept
+            .iter()
+            .map(|&k| sorted.get(k as usize).copied().unwrap_or(u32::MAX))
+            .collect(),
+        None => sorted,
+    };
     mesh.renumber(&new_index);
     repair(mesh, particles, field, stats)
 }
