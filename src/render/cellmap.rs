@@ -96,6 +96,18 @@ impl CellMap {
         if own & Self::ABSORBED != 0 {
             return Some(own & !Self::ABSORBED);
         }
+        if x > 0 && y > 0 && x + 1 < self.width && y + 1 < self.height {
+            // Away from the map's edges: three runs of three owners.
+            let k = y * self.width + x;
+            let same = [k - self.width - 1, k - 1, k + self.width - 1]
+                .into_iter()
+                .all(|r| {
+                    self.owners[r..r + 3]
+                        .iter()
+                        .all(|&o| o & !Self::ABSORBED == own)
+                });
+            return same.then_some(own);
+        }
         self.around(x, y)
             .all(|o| o & !Self::ABSORBED == own)
             .then_some(own)
@@ -107,6 +119,16 @@ impl CellMap {
         let Some((x, y)) = self.pixel_xy(p) else {
             return true;
         };
+        if x > 0 && y > 0 && x + 1 < self.width && y + 1 < self.height {
+            let k = y * self.width + x;
+            return [k - self.width - 1, k - 1, k + self.width - 1]
+                .into_iter()
+                .any(|r| {
+                    self.owners[r..r + 3]
+                        .iter()
+                        .any(|&o| o & !Self::ABSORBED == site)
+                });
+        }
         self.around(x, y).any(|o| o & !Self::ABSORBED == site)
     }
 
@@ -119,5 +141,66 @@ impl CellMap {
                 .iter()
                 .copied()
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small map of a few cells in irregular patches, some pixels absorbed, some owned by
+    /// nobody.
+    fn patchy_map(width: usize, height: usize) -> CellMap {
+        let owners = (0..width * height)
+            .map(|k| {
+                let (x, y) = (k % width, k / width);
+                let hash = (x * 7 + y * 13 + (x * y) % 5) % 23;
+                match hash {
+                    0 => NONE,
+                    1 | 2 => ((x / 3 + y / 4) % 4) as u32 | CellMap::ABSORBED,
+                    _ => ((x / 3 + y / 4) % 4) as u32,
+                }
+            })
+            .collect();
+        CellMap::new(width, height, owners)
+    }
+
+    /// The cells of pixel (x, y) and of its neighbours inside the map, by definition.
+    fn neighbourhood(map: &CellMap, x: usize, y: usize) -> Vec<u32> {
+        let (w, h) = map.size();
+        let mut cells = Vec::new();
+        for ny in y.saturating_sub(1)..=(y + 1).min(h - 1) {
+            for nx in x.saturating_sub(1)..=(x + 1).min(w - 1) {
+                cells.push(map.owners[ny * w + nx] & !CellMap::ABSORBED);
+            }
+        }
+        cells
+    }
+
+    #[test]
+    fn settled_owners_and_neighbours_match_their_definition() {
+        for (w, h) in [(17, 11), (1, 6), (5, 1), (2, 2)] {
+            let map = patchy_map(w, h);
+            for y in 0..h {
+                for x in 0..w {
+                    let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                    let own = map.owners[y * w + x];
+                    let around = neighbourhood(&map, x, y);
+                    let want = if own == NONE {
+                        None
+                    } else if own & CellMap::ABSORBED != 0 {
+                        Some(own & !CellMap::ABSORBED)
+                    } else {
+                        around.iter().all(|&c| c == own).then_some(own)
+                    };
+                    assert_eq!(map.settled_owner(p), want, "{w}x{h} at ({x}, {y})");
+                    // Off the pixel's centre nothing is settled.
+                    assert_eq!(map.settled_owner(p + DVec2::new(0.25, 0.0)), None);
+                    for site in 0..5 {
+                        assert_eq!(map.near(p, site), around.contains(&site), "({x}, {y})");
+                    }
+                }
+            }
+        }
     }
 }

@@ -295,15 +295,35 @@ const COARSE_BLOCKS_PER_CELL: f64 = 16.0;
 
 /// Every pixel's count, position and sRGB colour, summed over the blocks of the assign-and-move
 /// rounds' owner searches (`photo` has one pixel per domain unit; `n` cells, about
-/// `blocks_per_cell` blocks each).
+/// `blocks_per_cell` blocks each). A block's colour bytes are summed as integers and divided
+/// by 255 once; its count and position sums are whole and half-whole numbers, exact in `f64`.
 fn photo_block_sums(photo: &image::RgbImage, n: usize, blocks_per_cell: f64) -> BlockSums<6> {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
     let raw = photo.as_raw();
     let stride = block_stride(w, h, n, blocks_per_cell, STATS_STRIDE);
-    BlockSums::new(w, h, stride, |x, y| {
-        let i = 3 * (y * w + x);
-        let [r, g, b] = [raw[i], raw[i + 1], raw[i + 2]].map(|v| f64::from(v) / 255.0);
-        [1.0, x as f64 + 0.5, y as f64 + 0.5, r, g, b]
+    BlockSums::from_blocks(w, h, stride, |gx, gy| {
+        let (x0, x1) = (gx * stride, ((gx + 1) * stride).min(w));
+        let (y0, y1) = (gy * stride, ((gy + 1) * stride).min(h));
+        let mut colour = [0u32; 3];
+        for y in y0..y1 {
+            for px in raw[3 * (y * w + x0)..3 * (y * w + x1)].chunks_exact(3) {
+                for (c, &v) in colour.iter_mut().zip(px) {
+                    *c += u32::from(v);
+                }
+            }
+        }
+        let (cols, rows) = ((x1 - x0) as f64, (y1 - y0) as f64);
+        // Σ (x + ½) over x0..x1 is cols·(x0 + x1)/2.
+        let (mid_x, mid_y) = ((x0 + x1) as f64 / 2.0, (y0 + y1) as f64 / 2.0);
+        let [r, g, b] = colour.map(|c| f64::from(c) / 255.0);
+        [
+            cols * rows,
+            rows * cols * mid_x,
+            cols * rows * mid_y,
+            r,
+            g,
+            b,
+        ]
     })
 }
 

@@ -104,7 +104,7 @@ pub fn linear_of(rgb: [u8; 3]) -> Linear {
 /// [`pixel_sums`]. A cell that receives no pixel takes the photo's colour at its site.
 #[must_use]
 pub fn cell_means(cells: &VoronoiCells, photo: &DynamicImage) -> Vec<Linear> {
-    let rgb = photo.to_rgb8();
+    let rgb = rgb8(photo);
     let sums = pixel_sums(
         cells,
         rgb.width() as usize,
@@ -148,7 +148,7 @@ pub fn cell_means_and_widths(
     cells: &VoronoiCells,
     photo: &DynamicImage,
 ) -> (Vec<Linear>, Vec<f64>) {
-    let rgb = photo.to_rgb8();
+    let rgb = rgb8(photo);
     let (pw, ph) = (rgb.width() as usize, rgb.height() as usize);
     let sums = pixel_sums(cells, pw, ph, 2, |x, y| {
         let [r, g, b] = rgb.get_pixel(x as u32, y as u32).0.map(to_linear);

@@ -374,13 +374,30 @@ impl<const N: usize> BlockSums<N> {
         F: Fn(usize, usize) -> [f64; N] + Sync,
     {
         let blocks = BlockGrid::new(width, height, stride);
+        Self::from_blocks(width, height, stride, |gx, gy| {
+            let mut s = [0.0; N];
+            blocks.add_block(gx, gy, &value, &mut s);
+            s
+        })
+    }
+
+    /// Block sums given block by block: `block(gx, gy)` is the sum over the pixels of block
+    /// (gx, gy), those from (`stride`·gx, `stride`·gy) up to `stride` further in each direction
+    /// (fewer at the image's right and bottom edges), for callers that sum a block faster than
+    /// pixel by pixel.
+    #[must_use]
+    pub fn from_blocks<F>(width: usize, height: usize, stride: usize, block: F) -> Self
+    where
+        F: Fn(usize, usize) -> [f64; N] + Sync,
+    {
+        let blocks = BlockGrid::new(width, height, stride);
         let (w, h) = blocks.size();
         let mut sums = vec![[0.0f64; N]; w * h];
         sums.par_chunks_mut(w.max(1))
             .enumerate()
             .for_each(|(gy, row)| {
                 for (gx, s) in row.iter_mut().enumerate() {
-                    blocks.add_block(gx, gy, &value, s);
+                    *s = block(gx, gy);
                 }
             });
         BlockSums { blocks, sums }
