@@ -62,6 +62,29 @@ pub fn gaussian_blur_parallel_mut(
     if !(sigma > 0.0 && sigma.is_finite()) || data.is_empty() {
         return;
     }
+    let mut copy = vec![0.0; data.len()];
+    gaussian_blur_parallel_using(data, width, height, channels, sigma, &mut copy);
+}
+
+/// [`gaussian_blur_parallel_mut`] with the vertical pass's copy of the image in `scratch`
+/// (overwritten; at least as long as `data`), so a caller with a spare buffer of that size
+/// (a structure tensor blurs two images of one size) touches no fresh one.
+///
+/// # Panics
+/// If `data.len() != width·height·channels` or `scratch` is shorter than `data`.
+pub fn gaussian_blur_parallel_using(
+    data: &mut [f32],
+    width: usize,
+    height: usize,
+    channels: usize,
+    sigma: f32,
+    scratch: &mut [f32],
+) {
+    assert_eq!(data.len(), width * height * channels, "image buffer size");
+    assert!(scratch.len() >= data.len(), "scratch buffer size");
+    if !(sigma > 0.0 && sigma.is_finite()) || data.is_empty() {
+        return;
+    }
     let kernel = gaussian_kernel(sigma);
     let radius = kernel.len() / 2;
     let stride = width * channels;
@@ -89,7 +112,9 @@ pub fn gaussian_blur_parallel_mut(
         });
 
     // Vertical pass: each output row is a weighted sum of whole input rows, read in order.
-    let horizontal = data.to_vec();
+    let horizontal = &mut scratch[..data.len()];
+    horizontal.copy_from_slice(data);
+    let horizontal = &*horizontal;
     data.par_chunks_mut(stride)
         .enumerate()
         .for_each(|(y, out_row)| {

@@ -7,7 +7,7 @@
 //! scale of the metric is a fraction of the image diagonal, so a 12 MP photo and its 512 px
 //! thumbnail give the same field, and the cost stays flat as photos grow.
 
-use super::blur::gaussian_blur_parallel_mut;
+use super::blur::gaussian_blur_parallel_using;
 use image::DynamicImage;
 use rayon::prelude::*;
 
@@ -156,10 +156,19 @@ pub fn structure_tensor(
 ) -> Vec<[f32; 3]> {
     let (w, h) = (img.width, img.height);
     let mut smooth = img.data;
-    gaussian_blur_parallel_mut(&mut smooth, w, h, 3, noise_sigma);
-    let mut j = gradient_products(&smooth, w, h);
-    drop(smooth);
-    gaussian_blur_parallel_mut(j.as_flattened_mut(), w, h, 3, integration_sigma);
+    // Two buffers of the image's size in all: the tensor's is the first blur's scratch before
+    // the gradients fill it, and the smoothed image the second blur's once they are taken.
+    let mut j = vec![[0.0f32; 3]; w * h];
+    gaussian_blur_parallel_using(&mut smooth, w, h, 3, noise_sigma, j.as_flattened_mut());
+    gradient_products_into(&smooth, w, h, &mut j);
+    gaussian_blur_parallel_using(
+        j.as_flattened_mut(),
+        w,
+        h,
+        3,
+        integration_sigma,
+        &mut smooth,
+    );
     j
 }
 
@@ -189,10 +198,20 @@ const SCHARR_Y: [[f32; 3]; 3] = [
 /// on one thread); `benches/field.rs` measures both.
 #[must_use]
 pub fn gradient_products(img: &[f32], w: usize, h: usize) -> Vec<[f32; 3]> {
-    assert_eq!(img.len(), w * h * 3, "image buffer size");
     let mut j = vec![[0.0f32; 3]; w * h];
+    gradient_products_into(img, w, h, &mut j);
+    j
+}
+
+/// [`gradient_products`] into `j` (`w·h` values, every one overwritten).
+///
+/// # Panics
+/// If `img.len() != w·h·3` or `j.len() != w·h`.
+pub fn gradient_products_into(img: &[f32], w: usize, h: usize, j: &mut [[f32; 3]]) {
+    assert_eq!(img.len(), w * h * 3, "image buffer size");
+    assert_eq!(j.len(), w * h, "tensor buffer size");
     if j.is_empty() {
-        return j;
+        return;
     }
     let stride = 3 * w;
     // The non-zero taps in kornia's order: (row above/at/below, column left/at/right, weight).
@@ -242,7 +261,6 @@ pub fn gradient_products(img: &[f32], w: usize, h: usize) -> Vec<[f32; 3]> {
             }
         },
     );
-    j
 }
 
 /// `Σ_c (gx_c², gx_c·gy_c, gy_c²)` over a pixel's three channels, summed in channel order: the
