@@ -262,14 +262,16 @@ impl<'a> VoronoiCells<'a> {
             .into_par_iter()
             .map(|t| {
                 let own = mesh.triangle(t);
-                let mut c = [own[0], own[1], own[2], NONE, NONE, NONE];
+                // A missing neighbour (on the hull) repeats a corner, which the searches
+                // ignore, so every search reads six candidates without a test.
+                let mut c = [own[0], own[1], own[2], own[0], own[0], own[0]];
                 for i in 0..3 {
                     if let Some(n) = mesh.neighbour(t, i) {
                         c[3 + i] = mesh
                             .triangle(n)
                             .into_iter()
                             .find(|v| !own.contains(v))
-                            .unwrap_or(NONE);
+                            .unwrap_or(own[0]);
                     }
                 }
                 c
@@ -374,7 +376,7 @@ impl<'a> VoronoiCells<'a> {
     #[inline]
     #[must_use]
     pub fn owner_searched(&self, t: usize, p: DVec2) -> Owner {
-        let candidates = self.candidates[t].iter().filter(|&&c| c != NONE);
+        let candidates = self.candidates[t].iter();
         let ((site, d1), (second, d2)) = match self.colour {
             None => nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p)))),
             Some(term) => {
@@ -394,7 +396,7 @@ impl<'a> VoronoiCells<'a> {
                 let two = nearest_two(
                     squared
                         .into_iter()
-                        .filter(|&(c, d2)| c != NONE && d2 <= limit)
+                        .filter(|&(_, d2)| d2 <= limit)
                         .map(|(c, d2)| (c, d2 + term.cost(colour, c))),
                 );
                 as_mapped(term, p, two, |c| {
