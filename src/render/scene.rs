@@ -90,6 +90,7 @@ impl<'a> Scene<'a> {
             ..r
         };
         let step = r.step();
+        let centre_step = centres.step();
         let weight = 1.0 / (ss * ss) as f32;
         let mut out = vec![0u8; 3 * r.width * r.height];
         let ppu = self.pixels_per_unit;
@@ -99,7 +100,11 @@ impl<'a> Scene<'a> {
                     if o.site == NONE {
                         continue;
                     }
-                    let centre = centres.point(x, y);
+                    // `centres.point(x, y)`, with the step divided out once.
+                    let centre = DVec2::new(
+                        (x as f64 + 0.5) * centre_step.x,
+                        (y as f64 + 0.5) * centre_step.y,
+                    );
                     let mut o = *o;
                     // The border: f = δ_j − δ_i ≥ 0 on the owner's side, linear to first order.
                     let mut gradient = DVec2::ZERO;
