@@ -312,18 +312,11 @@ fn photo_block_sums(photo: &image::RgbImage, n: usize, blocks_per_cell: f64) -> 
                 }
             }
         }
-        let (cols, rows) = ((x1 - x0) as f64, (y1 - y0) as f64);
-        // Σ (x + ½) over x0..x1 is cols·(x0 + x1)/2.
+        let count = ((x1 - x0) * (y1 - y0)) as f64;
+        // Σ (x + ½) over the block is count·(x0 + x1)/2, and likewise for y.
         let (mid_x, mid_y) = ((x0 + x1) as f64 / 2.0, (y0 + y1) as f64 / 2.0);
         let [r, g, b] = colour.map(|c| f64::from(c) / 255.0);
-        [
-            cols * rows,
-            rows * cols * mid_x,
-            cols * rows * mid_y,
-            r,
-            g,
-            b,
-        ]
+        [count, count * mid_x, count * mid_y, r, g, b]
     })
 }
 
