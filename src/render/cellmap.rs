@@ -96,20 +96,9 @@ impl CellMap {
         if own & Self::ABSORBED != 0 {
             return Some(own & !Self::ABSORBED);
         }
-        if x > 0 && y > 0 && x + 1 < self.width && y + 1 < self.height {
-            // Away from the map's edges: three runs of three owners.
-            let k = y * self.width + x;
-            let same = [k - self.width - 1, k - 1, k + self.width - 1]
-                .into_iter()
-                .all(|r| {
-                    self.owners[r..r + 3]
-                        .iter()
-                        .all(|&o| o & !Self::ABSORBED == own)
-                });
-            return same.then_some(own);
-        }
         self.around(x, y)
-            .all(|o| o & !Self::ABSORBED == own)
+            .iter()
+            .all(|row| row.iter().all(|&o| o & !Self::ABSORBED == own))
             .then_some(own)
     }
 
@@ -119,28 +108,31 @@ impl CellMap {
         let Some((x, y)) = self.pixel_xy(p) else {
             return true;
         };
-        if x > 0 && y > 0 && x + 1 < self.width && y + 1 < self.height {
-            let k = y * self.width + x;
-            return [k - self.width - 1, k - 1, k + self.width - 1]
-                .into_iter()
-                .any(|r| {
-                    self.owners[r..r + 3]
-                        .iter()
-                        .any(|&o| o & !Self::ABSORBED == site)
-                });
-        }
-        self.around(x, y).any(|o| o & !Self::ABSORBED == site)
+        self.around(x, y)
+            .iter()
+            .any(|row| row.iter().any(|&o| o & !Self::ABSORBED == site))
     }
 
-    /// The flagged owners of pixel (`x`, `y`) and of its neighbours inside the map, row by row.
+    /// The flagged owners of pixel (`x`, `y`) and of its neighbours inside the map: a run of up
+    /// to three in each of the rows above, at and below (at the map's top or bottom edge its
+    /// own row stands in for the missing one, which changes no "all" or "any" over them).
+    /// Three slices, not a flattened iterator: the owner search reads them at most pixels of
+    /// a picture.
     #[inline]
-    fn around(&self, x: usize, y: usize) -> impl Iterator<Item = u32> + '_ {
+    fn around(&self, x: usize, y: usize) -> [&[u32]; 3] {
+        let w = self.width;
+        if x > 0 && y > 0 && x + 1 < w && y + 1 < self.height {
+            // Away from the map's edges, without the clamps.
+            let k = y * w + x;
+            return [k - w - 1, k - 1, k + w - 1].map(|r| &self.owners[r..r + 3]);
+        }
         let columns = x.saturating_sub(1)..=(x + 1).min(self.width - 1);
-        (y.saturating_sub(1)..=(y + 1).min(self.height - 1)).flat_map(move |ny| {
-            self.owners[ny * self.width..(ny + 1) * self.width][columns.clone()]
-                .iter()
-                .copied()
-        })
+        let row = |ny: usize| &self.owners[ny * self.width..(ny + 1) * self.width][columns.clone()];
+        [
+            row(y.saturating_sub(1)),
+            row(y),
+            row((y + 1).min(self.height - 1)),
+        ]
     }
 }
 

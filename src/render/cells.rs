@@ -331,3 +331,53 @@ fn cell_stats(cells: &VoronoiCells, sums: &BlockSums<6>) -> Vec<CellStats> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::AnalyticField;
+    use crate::sampling::{self, SamplerParams};
+
+    #[test]
+    fn photo_block_sums_are_the_pixel_sums() {
+        // Partial blocks at the right and bottom edges, and colours that vary pixel by pixel.
+        let (w, h) = (97usize, 71usize);
+        let photo = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
+            image::Rgb([
+                ((x * 7 + y * 3) % 256) as u8,
+                ((x * y) % 251) as u8,
+                ((x + 5 * y) % 256) as u8,
+            ])
+        });
+        let field = AnalyticField::parse("constant:angle=30,anisotropy=3,size=0.05")
+            .unwrap()
+            .field(w, h);
+        let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+        let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh);
+        let n = s.positions.len();
+        for blocks_per_cell in [BLOCKS_PER_CELL, COARSE_BLOCKS_PER_CELL] {
+            let stride = block_stride(w, h, n, blocks_per_cell, STATS_STRIDE);
+            assert!(
+                stride >= 2 && w % stride != 0 && h % stride != 0,
+                "stride {stride}"
+            );
+            let got = photo_block_sums(&photo, n, blocks_per_cell).per_cell(&cells);
+            // The truth: every pixel's values added one by one.
+            let raw = photo.as_raw();
+            let want = BlockSums::new(w, h, stride, |x, y| {
+                let i = 3 * (y * w + x);
+                let [r, g, b] = [raw[i], raw[i + 1], raw[i + 2]].map(|v| f64::from(v) / 255.0);
+                [1.0, x as f64 + 0.5, y as f64 + 0.5, r, g, b]
+            })
+            .per_cell(&cells);
+            for (g, t) in got.iter().zip(&want) {
+                for (a, b) in g.iter().zip(t) {
+                    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{g:?} vs {t:?}");
+                }
+                // Counts and positions are exact.
+                assert_eq!(g[..3], t[..3]);
+            }
+            assert_eq!(got.iter().map(|s| s[0]).sum::<f64>(), (w * h) as f64);
+        }
+    }
+}
