@@ -124,6 +124,17 @@ impl Tensor {
         self.xx * self.yy - self.xy * self.xy
     }
 
+    /// `t²` (for symmetric `t = [[a, b], [b, c]]`: `[[a² + b², b(a + c)], [b(a + c), c² + b²]]`).
+    #[must_use]
+    pub fn squared(&self) -> Tensor {
+        let b2 = self.xy * self.xy;
+        Tensor::new(
+            self.xx * self.xx + b2,
+            self.xy * (self.xx + self.yy),
+            self.yy * self.yy + b2,
+        )
+    }
+
     /// The inverse, or `None` when the determinant is zero or not finite.
     #[must_use]
     pub fn inverse(&self) -> Option<Tensor> {
@@ -193,6 +204,18 @@ mod tests {
         (a.xx - b.xx).abs() <= tol * scale
             && (a.xy - b.xy).abs() <= tol * scale
             && (a.yy - b.yy).abs() <= tol * scale
+    }
+
+    #[test]
+    fn squared_applies_the_tensor_twice() {
+        let t = Tensor::from_eigen(0.4, 5.0, 1.5);
+        let sq = t.squared();
+        for v in [DVec2::X, DVec2::Y, DVec2::new(0.3, -2.0)] {
+            assert!((sq.mul_vec(v) - t.mul_vec(t.mul_vec(v))).length() < 1e-12);
+        }
+        // Its eigenvalues are the squares: semi-axes 5 and 1.5 give 25 and 2.25.
+        let e = sq.eigen();
+        assert!((e.l1 - 25.0).abs() < 1e-12 && (e.l2 - 2.25).abs() < 1e-12);
     }
 
     fn check_decomposition(t: Tensor) -> Result<(), TestCaseError> {

@@ -51,13 +51,16 @@ pub fn normalised_distance(pa: DVec2, inv_a: &Tensor, pb: DVec2, inv_b: &Tensor)
 #[inline]
 #[must_use]
 pub fn contact_distance(pa: DVec2, ma: &Tensor, pb: DVec2, mb: &Tensor) -> f64 {
+    contact_distance_of_squares(pa, &ma.squared(), pb, &mb.squared())
+}
+
+/// [`contact_distance`] from the squared metrics `m_a²`, `m_b²` ([`Tensor::squared`]), which
+/// the relaxation keeps per particle instead of squaring them again for every edge.
+#[inline]
+#[must_use]
+pub fn contact_distance_of_squares(pa: DVec2, a2: &Tensor, pb: DVec2, b2: &Tensor) -> f64 {
     let y = pa - pb;
-    // For symmetric m = [[a, b], [b, c]], m² = [[a² + b², b(a + c)], [b(a + c), c² + b²]].
-    let sq = |m: &Tensor| {
-        let b2 = m.xy * m.xy;
-        (m.xx * m.xx + b2, m.xy * (m.xx + m.yy), m.yy * m.yy + b2)
-    };
-    let (a, b) = (sq(ma), sq(mb));
+    let (a, b) = ((a2.xx, a2.xy, a2.yy), (b2.xx, b2.xy, b2.yy));
     // yᵀ adj(C) y and det C for C = C(λ) = (1 − λ)·A + λ·B: N(λ) = n0 + n1·λ,
     // D(λ) = d0 + d1·λ + d2·λ².
     let adj_form = |c: (f64, f64, f64)| c.2 * y.x * y.x - 2.0 * c.1 * y.x * y.y + c.0 * y.y * y.y;
@@ -76,13 +79,15 @@ pub fn contact_distance(pa: DVec2, ma: &Tensor, pb: DVec2, mb: &Tensor) -> f64 {
     // term and its slope are 0 and −8.
     let (n, dn) = (0.5 * (na + nb), nb - na);
     let (d, dd) = (d0 + 0.5 * d1 + 0.25 * d2, d1 + d2);
-    let phi = dn / n - dd / d;
     // Near ½, log F rises by at most about φ²/16 (the slope there is about −8), so `d` by
     // φ²/32: under NEWTON_SKIP_PHI that is below 1e-4 of `d`, and the step is skipped (the
-    // neighbours of a smooth field, most pairs, differ that little).
-    if phi.abs() < NEWTON_SKIP_PHI {
+    // neighbours of a smooth field, most pairs, differ that little). `n` and `d` are positive
+    // here (`F(½) = n/(4d) > 0`), so `|φ| < s` is tested as `|dn·d − dd·n| < s·n·d`, without
+    // dividing.
+    if (dn * d - dd * n).abs() < NEWTON_SKIP_PHI * n * d {
         return half.sqrt();
     }
+    let phi = dn / n - dd / d;
     let slope = -8.0 - (dn / n).powi(2) - (2.0 * d2 * d - dd * dd) / (d * d);
     let step = (0.5 - phi / slope).clamp(0.05, 0.95);
     // F(λ) ≤ max F for every λ, so the larger of the two is the better lower bound.

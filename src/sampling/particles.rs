@@ -1,5 +1,5 @@
 //! Particle state during relaxation (paper section 5.3): structure-of-arrays of positions,
-//! metrics and their inverses, velocities, motion flags and per-edge forces, boundary samples
+//! metrics, their inverses and squares, velocities, motion flags and per-edge forces, boundary samples
 //! first, kept in Morton order so loops over particles, their neighbours and the field read
 //! memory mostly in order. Insertion appends, deletion and reordering gather every array the
 //! same way.
@@ -14,6 +14,8 @@ pub(super) struct Particles {
     pub(super) positions: Vec<DVec2>,
     pub(super) metrics: Vec<Tensor>,
     pub(super) inverses: Vec<Tensor>,
+    /// Every metric squared ([`Tensor::squared`]), what the contact distance reads.
+    pub(super) squares: Vec<Tensor>,
     pub(super) velocities: Vec<DVec2>,
     /// Force of each triangulation edge on its first vertex (reused).
     pub(super) edge_forces: Vec<DVec2>,
@@ -47,6 +49,7 @@ impl Particles {
             .par_iter()
             .map(|m| m.inverse().unwrap_or_default())
             .collect();
+        let squares = metrics.par_iter().map(Tensor::squared).collect();
         let velocities = vec![DVec2::ZERO; positions.len()];
         let mut motion = vec![AWAKE | MOVED; positions.len()];
         motion[..fixed].fill(0);
@@ -58,6 +61,7 @@ impl Particles {
             positions,
             metrics,
             inverses,
+            squares,
             velocities,
             edge_forces: Vec::new(),
             fixed,
@@ -72,6 +76,7 @@ impl Particles {
         self.meshed_at.reserve_exact(extra);
         self.metrics.reserve_exact(extra);
         self.inverses.reserve_exact(extra);
+        self.squares.reserve_exact(extra);
         self.velocities.reserve_exact(extra);
         self.motion.reserve_exact(extra);
     }
@@ -83,6 +88,7 @@ impl Particles {
         self.meshed_at.push(DVec2::NAN);
         self.metrics.push(m);
         self.inverses.push(m.inverse().unwrap_or_default());
+        self.squares.push(m.squared());
         self.velocities.push(DVec2::ZERO);
         self.motion.push(AWAKE | MOVED);
     }
@@ -139,6 +145,7 @@ impl Particles {
         gather(&mut self.meshed_at, order);
         gather(&mut self.metrics, order);
         gather(&mut self.inverses, order);
+        gather(&mut self.squares, order);
         gather(&mut self.motion, order);
     }
 }

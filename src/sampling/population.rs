@@ -20,7 +20,7 @@
 //! constant field and thins the knots of a singular one (the centre of `circular`).
 
 use super::delaunay::AnisotropicDelaunay;
-use super::distance::{contact_distance, normalised_distance};
+use super::distance::{contact_distance_of_squares, normalised_distance};
 use super::edges::Edges;
 use super::force::force_spline;
 use crate::field::{Tensor, TensorField};
@@ -128,21 +128,21 @@ fn has_room(p: [DVec2; 3], inv: [Tensor; 3], metric: &TensorField) -> bool {
 pub const INSERT_MIN_DISTANCE: f64 = 0.65;
 
 /// Pressure `Σ max(f(d), 0)` of every sample over its triangulation neighbours, with the
-/// contact distance the forces use (`metrics`, not inverses): the spline is evaluated once per
-/// edge, then gathered per sample in a fixed order.
+/// contact distance the forces use (from the squared metrics, [`Tensor::squared`]): the spline
+/// is evaluated once per edge, then gathered per sample in a fixed order.
 #[must_use]
-pub fn pressures(positions: &[DVec2], metrics: &[Tensor], edges: &Edges) -> Vec<f64> {
+pub fn pressures(positions: &[DVec2], squares: &[Tensor], edges: &Edges) -> Vec<f64> {
     use rayon::prelude::*;
     let per_edge: Vec<f64> = edges
         .ends
         .par_iter()
         .map(|&[a, b]| {
             let (a, b) = (a as usize, b as usize);
-            force_spline(contact_distance(
+            force_spline(contact_distance_of_squares(
                 positions[a],
-                &metrics[a],
+                &squares[a],
                 positions[b],
-                &metrics[b],
+                &squares[b],
             ))
             .max(0.0)
         })

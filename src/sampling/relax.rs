@@ -86,7 +86,7 @@ pub(super) fn control_population(
     stats: &mut Stats,
 ) -> AnisotropicDelaunay {
     let t = Instant::now();
-    let pressure = population::pressures(&particles.positions, &particles.metrics, edges);
+    let pressure = population::pressures(&particles.positions, &particles.squares, edges);
     let gone = population::deletions(&pressure, particles.fixed, edges, params.delete_pressure);
     let new = population::insertion_points(
         &mesh,
@@ -174,6 +174,7 @@ pub(super) fn relax_once(
         positions,
         metrics,
         inverses,
+        squares,
         velocities,
         edge_forces,
         looked_up,
@@ -182,8 +183,8 @@ pub(super) fn relax_once(
         next_motion,
         ..
     } = particles;
-    let (positions_now, metrics_now, motion_now): (&[DVec2], &[Tensor], &[u8]) =
-        (positions, metrics, motion);
+    let (positions_now, squares_now, motion_now): (&[DVec2], &[Tensor], &[u8]) =
+        (positions, squares, motion);
     if edge_forces.len() != edges.ends.len() {
         // A new, exact buffer: a million particles have three million edges, and a grown one
         // would double.
@@ -198,7 +199,7 @@ pub(super) fn relax_once(
                 return;
             }
             let (pa, pb) = (positions_now[a], positions_now[b]);
-            let d = distance::contact_distance(pa, &metrics_now[a], pb, &metrics_now[b]);
+            let d = distance::contact_distance_of_squares(pa, &squares_now[a], pb, &squares_now[b]);
             // Force on a: S·f(d)·ŷ·d_opt with ŷ·d_opt = (y/|y|)·(|y|/d) = y/d.
             *f = if d > 0.0 {
                 (pa - pb) * (dyn_.scale * force_spline(d) / d)
@@ -217,7 +218,8 @@ pub(super) fn relax_once(
         .zip(
             metrics[fixed..]
                 .par_iter_mut()
-                .zip(inverses[fixed..].par_iter_mut()),
+                .zip(inverses[fixed..].par_iter_mut())
+                .zip(squares[fixed..].par_iter_mut()),
         )
         .zip(looked_up[fixed..].par_iter_mut())
         .zip(
@@ -226,7 +228,7 @@ pub(super) fn relax_once(
                 .zip(motion[fixed..].par_iter_mut()),
         )
         .enumerate()
-        .map(|(k, ((((pos, v), (m, inv)), at), (meshed, flags)))| {
+        .map(|(k, ((((pos, v), ((m, inv), sq)), at), (meshed, flags)))| {
             let i = fixed + k;
             let p = *pos;
             let size = m.det().sqrt().max(1e-12);
@@ -264,6 +266,7 @@ pub(super) fn relax_once(
             if (*pos - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
                 *m = field.sample(*pos);
                 *inv = m.inverse().unwrap_or_default();
+                *sq = m.squared();
                 *at = *pos;
             }
             // A NaN `meshed` (never meshed) gives NaN, which `max` ignores.
