@@ -62,6 +62,16 @@ impl Edges {
     }
 }
 
+impl Edges {
+    /// The edges at vertex `v` as (edge index, whether `v` is the edge's first end), in the
+    /// order of [`Self::at`], without looking up the other vertex.
+    pub fn sides_at(&self, v: usize) -> impl Iterator<Item = (usize, bool)> + '_ {
+        self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+            .iter()
+            .map(|&x| ((x >> 1) as usize, x & 1 == 0))
+    }
+}
+
 impl AnisotropicDelaunay {
     /// Every edge once, as its two end vertices, and for every vertex the edges it ends
     /// (compressed rows, its one-ring): force loops compute each pair once and gather per

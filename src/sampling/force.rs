@@ -22,20 +22,19 @@ const K: f64 = -ATTRACTION_DEPTH * 27.0 / (4.0 * GAMMA * GAMMA * GAMMA);
 /// Slope of `f` at `d = 1`, shared by both pieces.
 pub const SLOPE_AT_ONE: f64 = K * GAMMA * GAMMA;
 
-/// The force spline `f(d)`.
+/// The force spline `f(d)` (NaN for a NaN `d`: the distances it is given never are).
 #[inline]
 #[must_use]
 pub fn force_spline(d: f64) -> f64 {
-    if d < 1.0 {
-        let t = d.max(0.0);
-        // Hermite basis: h00 = 2t³ − 3t² + 1, h11 = t³ − t².
-        (2.0 * t - 3.0) * t * t + 1.0 + SLOPE_AT_ONE * (t - 1.0) * t * t
-    } else if d < 1.0 + GAMMA {
-        let t = d - 1.0;
-        K * t * (t - GAMMA) * (t - GAMMA)
-    } else {
-        0.0
-    }
+    // Both pieces vanish outside their own interval (the repelling one is 0 at t = 1, the
+    // attracting one at t = 0 and t = γ), so f is their sum at clamped arguments: no branch
+    // on d, which falls on either side of 1 about equally often in a packing.
+    let t = d.clamp(0.0, 1.0);
+    // Hermite basis: h00 = 2t³ − 3t² + 1, h11 = t³ − t².
+    let repelling = (2.0 * t - 3.0) * t * t + 1.0 + SLOPE_AT_ONE * (t - 1.0) * t * t;
+    let u = (d - 1.0).clamp(0.0, GAMMA);
+    let attracting = K * u * (u - GAMMA) * (u - GAMMA);
+    repelling + attracting
 }
 
 #[cfg(test)]
@@ -49,6 +48,7 @@ mod tests {
         assert!(force_spline(1.0).abs() < 1e-15);
         assert_eq!(force_spline(1.0 + GAMMA), 0.0);
         assert_eq!(force_spline(7.0), 0.0);
+        assert_eq!(force_spline(f64::INFINITY), 0.0);
         let mut prev = f64::INFINITY;
         for i in 1..1000 {
             let d = f64::from(i) / 1000.0;

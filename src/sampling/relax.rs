@@ -237,19 +237,19 @@ pub(super) fn relax_once(
                 return (0.0, (p - *meshed).length() / size);
             }
             let mut force = DVec2::ZERO;
-            for (e, first, _) in edges.at(i) {
-                force += if first {
-                    edge_forces[e]
+            for (e, first) in edges.sides_at(i) {
+                if first {
+                    force += edge_forces[e];
                 } else {
-                    -edge_forces[e]
-                };
+                    force -= edge_forces[e];
+                }
             }
             // Drag taken implicitly: stable for any C_drag·Δt, unlike v·(1 − C_drag·Δt).
             *v = (*v + force * dyn_.dt) / (1.0 + dyn_.drag * dyn_.dt);
             let mut step = *v * dyn_.dt;
-            let cap = size / 3.0;
-            if step.length() > cap {
-                step *= cap / step.length();
+            let (cap, length) = (size / 3.0, step.length());
+            if length > cap {
+                step *= cap / length;
             }
             let margin = 1e-6 * size.max(1e-3);
             *pos = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
