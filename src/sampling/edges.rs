@@ -78,31 +78,35 @@ impl AnisotropicDelaunay {
     /// particle.
     #[must_use]
     pub fn edges(&self, num_vertices: usize) -> Edges {
+        // Half-edge h stands for its edge when it is on the hull or the lower-numbered of its
+        // twin pair: about half of them, at random, so both passes below count and place
+        // without branching on it (a mispredicted branch per half-edge cost a fifth of the
+        // time).
         let edge = |h: usize| {
-            (self.twin[h] == NONE || (h as u32) < self.twin[h]).then(|| {
-                let (a, b) = (self.origin[h], self.origin[next(h)]);
-                [a.min(b), a.max(b)]
-            })
+            let keep = self.twin[h] == NONE || (h as u32) < self.twin[h];
+            let (a, b) = (self.origin[h], self.origin[next(h)]);
+            (keep, [a.min(b), a.max(b)])
         };
         // Grouped by their lower vertex (a counting sort, in half-edge order within a
         // group): with spatially sorted vertices, a loop over edges reads in order.
         let mut start = vec![0u32; num_vertices + 1];
         for h in 0..self.origin.len() {
-            if let Some([a, _]) = edge(h) {
-                start[a as usize + 1] += 1;
-            }
+            let (keep, [a, _]) = edge(h);
+            start[a as usize + 1] += u32::from(keep);
         }
         for i in 1..start.len() {
             start[i] += start[i - 1];
         }
-        let mut ends = vec![[0u32; 2]; start[num_vertices] as usize];
+        // One slot more, where the half-edges that are not kept are written.
+        let count = start[num_vertices] as usize;
+        let mut ends = vec![[0u32; 2]; count + 1];
         for h in 0..self.origin.len() {
-            if let Some(e) = edge(h) {
-                let slot = &mut start[e[0] as usize];
-                ends[*slot as usize] = e;
-                *slot += 1;
-            }
+            let (keep, e) = edge(h);
+            let slot = &mut start[e[0] as usize];
+            ends[if keep { *slot as usize } else { count }] = e;
+            *slot += u32::from(keep);
         }
+        ends.truncate(count);
         Edges::from_ends(ends, num_vertices)
     }
 }
