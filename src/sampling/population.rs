@@ -56,6 +56,38 @@ pub fn fill_rate(p: [DVec2; 3], inv: [Tensor; 3]) -> f64 {
     covered / area
 }
 
+/// A lower bound of [`fill_rate`] without its arc tangents: each corner's angle `θ` is bounded
+/// below by `x + x³/6` with `x = sin θ` when it is acute (the first terms of `arcsin`'s series,
+/// all of whose terms are positive) and by `π/2` when it is not. For a hexagonal triangle it
+/// reads 0.84 of the exact 0.907, so most triangles of a packing are cleared by it alone.
+#[must_use]
+pub fn fill_rate_lower_bound(p: [DVec2; 3], inv: [Tensor; 3]) -> f64 {
+    let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]).abs();
+    if area <= 0.0 {
+        return f64::INFINITY;
+    }
+    let mut covered = 0.0;
+    for i in 0..3 {
+        let u = inv[i].mul_vec(p[(i + 1) % 3] - p[i]);
+        let v = inv[i].mul_vec(p[(i + 2) % 3] - p[i]);
+        let angle = if u.dot(v) >= 0.0 {
+            let x = u.perp_dot(v).abs() / (u.length_squared() * v.length_squared()).sqrt();
+            // NaN (a zero edge) counts as no angle at all.
+            if x.is_nan() {
+                0.0
+            } else {
+                x + x * x * x / 6.0
+            }
+        } else {
+            std::f64::consts::FRAC_PI_2
+        };
+        covered += 0.5 * angle / inv[i].det();
+    }
+    // Rounding could lift the bound a few ulps over the exact value; this margin keeps it
+    // below.
+    covered / area * (1.0 - 1e-9)
+}
+
 /// When a triangle receives a new sample.
 #[derive(Clone, Copy, Debug)]
 pub struct InsertionRule<'a> {
@@ -88,7 +120,10 @@ pub fn insertion_points(
             let p = [positions[a], positions[b], positions[c]];
             let inv = [inverses[a], inverses[b], inverses[c]];
             let crowded = (pressure[a] + pressure[b] + pressure[c]) / 3.0 > rule.max_pressure;
-            !crowded && fill_rate(p, inv) <= rule.fill_rate && has_room(p, inv, metric)
+            !crowded
+                && fill_rate_lower_bound(p, inv) <= rule.fill_rate
+                && fill_rate(p, inv) <= rule.fill_rate
+                && has_room(p, inv, metric)
         })
         .collect();
     // Then, in triangle order, at most one insertion touching each sample.
@@ -203,6 +238,44 @@ mod tests {
         // Twice as far apart: a quarter of that.
         let far = iso.map(|v| m.mul_vec(v * 2.0) + DVec2::new(2.0, 2.0));
         assert!((fill_rate(far, [inv; 3]) - OPTIMAL_FILL_RATE / 4.0).abs() < 1e-9);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn the_lower_bound_is_below_the_fill_rate(
+            corners in proptest::array::uniform6(-10.0f64..10.0),
+            axes in proptest::array::uniform6(0.2f64..5.0),
+            angles in proptest::array::uniform3(-3.2f64..3.2),
+        ) {
+            let p = [0, 1, 2].map(|i| DVec2::new(corners[2 * i], corners[2 * i + 1]));
+            let inv = [0, 1, 2].map(|i| {
+                let (a, b) = (axes[2 * i].max(axes[2 * i + 1]), axes[2 * i].min(axes[2 * i + 1]));
+                Tensor::from_eigen(angles[i], a, b).inverse().unwrap()
+            });
+            let (bound, exact) = (fill_rate_lower_bound(p, inv), fill_rate(p, inv));
+            proptest::prop_assert!(bound <= exact, "{bound} > {exact}");
+            if exact.is_finite() {
+                // Never below half the exact value (x + x³/6 ≥ 0.5·arcsin x, and π/2 ≥ θ/2).
+                proptest::prop_assert!(bound >= 0.5 * exact, "{bound} ≪ {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_lower_bound_is_close_for_a_hexagonal_triangle() {
+        let m = Tensor::from_eigen(0.3, 4.0, 1.5);
+        let iso = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(1.0, 3f64.sqrt()),
+        ];
+        let p = iso.map(|v| m.mul_vec(v));
+        let inv = [m.inverse().unwrap(); 3];
+        let bound = fill_rate_lower_bound(p, inv);
+        // 3·(x + x³/6) with x = sin 60°, over 3·π/3.
+        let expected =
+            OPTIMAL_FILL_RATE * (0.75f64.sqrt() * (1.0 + 0.125)) / (std::f64::consts::PI / 3.0);
+        assert!((bound - expected).abs() < 1e-6 && bound > 0.84, "{bound}");
     }
 
     #[test]
