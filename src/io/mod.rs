@@ -123,20 +123,29 @@ fn check_size(path: &Path, width: u64, height: u64) -> Result<()> {
 }
 
 /// Reads a tensor field `(H, W, 3)` of `(t11, t12, t22)`, float32 or float64, C or Fortran
-/// order. Every value must be finite; the first bad pixel is named otherwise.
+/// order. Every value must be finite; the first bad pixel is named otherwise. C-ordered data
+/// (the usual case) are read in blocks of rows straight into the field, so the file is never
+/// held in memory whole.
 pub fn read_npy(path: &Path) -> Result<TensorField> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    decode_npy(path, &bytes)
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
+    decode_npy_from(path, BufReader::new(file), len)
 }
 
 /// [`read_npy`] of bytes already read from `path` (named in errors).
 pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
+    decode_npy_from(path, bytes, bytes.len() as u64)
+}
+
+/// [`read_npy`] from `reader`, which holds `len` bytes in all.
+fn decode_npy_from(path: &Path, mut reader: impl Read, len: u64) -> Result<TensorField> {
     let npy_err = |reason: String| Error::Npy {
         path: path.into(),
         reason,
     };
-    let npy = npyz::NpyFile::new(bytes).map_err(|e| npy_err(format!("not a .npy file: {e}")))?;
-    let shape = npy.shape().to_vec();
+    let header = npyz::NpyHeader::from_reader(&mut reader)
+        .map_err(|e| npy_err(format!("not a .npy file: {e}")))?;
+    let shape = header.shape().to_vec();
     let (h, w) = match shape[..] {
         [h, w, 3] => (h, w),
         _ => {
@@ -146,7 +155,7 @@ pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
         }
     };
     check_size(path, w, h)?;
-    let type_str = match npy.dtype() {
+    let type_str = match header.dtype() {
         npyz::DType::Plain(t) => t,
         other => {
             return Err(npy_err(format!(
@@ -167,18 +176,19 @@ pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
     let count = (h * w * 3) as usize;
     // The header is at least 10 bytes; a file shorter than header + data is truncated, and
     // checking first keeps a lying header from making us allocate for data that isn't there.
-    if (bytes.len() as u64) < (count * bytes_per) as u64 + 10 {
+    if len < (count * bytes_per) as u64 + 10 {
         return Err(truncated(path, &shape, count * bytes_per));
     }
     let (h, w) = (h as usize, w as usize);
-    let data = if npy.order() == npyz::Order::Fortran {
-        let data_err = |e: std::io::Error| {
-            if e.kind() == std::io::ErrorKind::UnexpectedEof {
-                truncated(path, &shape, count * bytes_per)
-            } else {
-                npy_err(format!("cannot read data: {e}"))
-            }
-        };
+    let data_err = |e: std::io::Error| {
+        if e.kind() == std::io::ErrorKind::UnexpectedEof {
+            truncated(path, &shape, count * bytes_per)
+        } else {
+            npy_err(format!("cannot read data: {e}"))
+        }
+    };
+    let data = if header.order() == npyz::Order::Fortran {
+        let npy = npyz::NpyFile::with_header(header, reader);
         let values: Vec<f64> = if bytes_per == 4 {
             let v: Vec<f32> = npy.into_vec().map_err(data_err)?;
             v.into_iter().map(f64::from).collect()
@@ -193,13 +203,12 @@ pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
         }
         tensors_fortran(&values, w, h)
     } else {
-        // C order, the usual case: the data are read straight from the bytes, row by row in
-        // parallel, without an intermediate vector of values.
-        let data = header_len(bytes)
-            .and_then(|start| bytes.get(start..start + count * bytes_per))
-            .ok_or_else(|| truncated(path, &shape, count * bytes_per))?;
         let big = type_str.endianness() == npyz::Endianness::Big;
-        tensors_c(data, w, bytes_per, big)
+        match tensors_c(&mut reader, w, h, bytes_per, big) {
+            Ok(data) => Ok(data),
+            Err(Bad::Value(x, y)) => Err((x, y)),
+            Err(Bad::Read(e)) => return Err(data_err(e)),
+        }
     };
     match data {
         Ok(data) => Ok(TensorField::new(w, h, data)),
@@ -211,15 +220,11 @@ pub fn decode_npy(path: &Path, bytes: &[u8]) -> Result<TensorField> {
     }
 }
 
-/// Where the data of a `.npy` file start: after the magic, version, header length and header.
-fn header_len(bytes: &[u8]) -> Option<usize> {
-    let major = *bytes.get(6)?;
-    if major == 1 {
-        Some(10 + usize::from(u16::from_le_bytes([*bytes.get(8)?, *bytes.get(9)?])))
-    } else {
-        let b = bytes.get(8..12)?;
-        Some(12 + u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
-    }
+/// Why C-ordered data could not be read: the reader failed, or pixel (x, y) holds a value that
+/// is not finite.
+enum Bad {
+    Read(std::io::Error),
+    Value(usize, usize),
 }
 
 /// One stored value as `f32`, or `None` when it is not finite or does not fit.
@@ -250,42 +255,51 @@ fn finite_f32(v: f64) -> Option<f32> {
     (v.is_finite() && v.abs() <= f64::from(f32::MAX)).then_some(v as f32)
 }
 
-/// Tensors from C-ordered `(H, W, 3)` data of `bytes_per`-byte floats, or the first pixel
-/// (x, y) holding a value that is not finite.
+/// Tensors from C-ordered `(H, W, 3)` data of `bytes_per`-byte floats read from `reader`, in
+/// blocks of about [`NPY_BLOCK`] bytes of whole rows, each converted row by row in parallel
+/// straight into the field; or the first pixel in row order holding a value that is not
+/// finite.
 fn tensors_c(
-    data: &[u8],
+    reader: &mut impl Read,
     w: usize,
+    h: usize,
     bytes_per: usize,
     big: bool,
-) -> std::result::Result<Vec<[f32; 3]>, (usize, usize)> {
+) -> std::result::Result<Vec<[f32; 3]>, Bad> {
     use rayon::prelude::*;
-    let h = data.len() / (w * 3 * bytes_per).max(1);
+    let row_bytes = w * 3 * bytes_per;
+    let rows_per_block = (NPY_BLOCK / row_bytes.max(1)).clamp(1, h.max(1));
+    let mut block = vec![0u8; rows_per_block * row_bytes];
     let mut out = vec![[0.0f32; 3]; w * h];
-    let first_bad: Vec<Option<usize>> = out
-        .par_chunks_mut(w.max(1))
-        .zip(data.par_chunks(w.max(1) * 3 * bytes_per))
-        .map(|(row, bytes)| {
-            let pixels = row.iter_mut().zip(bytes.chunks_exact(3 * bytes_per));
-            for (x, (t, px)) in pixels.enumerate() {
-                for (k, v) in px.chunks_exact(bytes_per).enumerate() {
-                    match stored_value(v, big) {
-                        Some(v) => t[k] = v,
-                        None => return Some(x),
+    for (b, rows) in out.chunks_mut(rows_per_block * w.max(1)).enumerate() {
+        let bytes = &mut block[..rows.len() / w.max(1) * row_bytes];
+        reader.read_exact(bytes).map_err(Bad::Read)?;
+        let first_bad = rows
+            .par_chunks_mut(w.max(1))
+            .zip(bytes.par_chunks(row_bytes.max(1)))
+            .enumerate()
+            .find_map_first(|(y, (row, bytes))| {
+                let pixels = row.iter_mut().zip(bytes.chunks_exact(3 * bytes_per));
+                for (x, (t, px)) in pixels.enumerate() {
+                    for (k, v) in px.chunks_exact(bytes_per).enumerate() {
+                        match stored_value(v, big) {
+                            Some(v) => t[k] = v,
+                            None => return Some((x, y)),
+                        }
                     }
                 }
-            }
-            None
-        })
-        .collect();
-    match first_bad
-        .iter()
-        .enumerate()
-        .find_map(|(y, x)| x.map(|x| (x, y)))
-    {
-        Some(at) => Err(at),
-        None => Ok(out),
+                None
+            });
+        if let Some((x, y)) = first_bad {
+            return Err(Bad::Value(x, b * rows_per_block + y));
+        }
     }
+    Ok(out)
 }
+
+/// Bytes of a `.npy` file [`tensors_c`] reads and converts at a time: large enough for the
+/// conversion to be worth sharing among threads, small enough to stay in the cache.
+const NPY_BLOCK: usize = 1 << 20;
 
 /// Tensors from Fortran-ordered values, or the first pixel (x, y) in row order holding a
 /// value that is not finite.
@@ -502,4 +516,47 @@ pub fn save_image(path: &Path, img: &DynamicImage) -> Result<()> {
             reason: e.to_string(),
         })?;
     write_atomic(path, |w| w.write_all(bytes.get_ref()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A field of several [`NPY_BLOCK`]s: read back value for value, and a NaN in a later
+    /// block named at its own pixel.
+    #[test]
+    fn npy_fields_are_read_across_blocks() {
+        let (w, h) = (600, 500);
+        let data: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| [1.0 + i as f32, 0.25 * (i % 7) as f32, 2.0 + (i % 13) as f32])
+            .collect();
+        assert!(w * h * 12 > 3 * NPY_BLOCK, "spans several blocks");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("field.npy");
+        write_npy(&path, &TensorField::new(w, h, data.clone())).unwrap();
+        let read = read_npy(&path).unwrap();
+        assert_eq!((read.cols(), read.rows()), (w, h));
+        assert_eq!(read.data(), &data[..]);
+        // The same bytes through `decode_npy`.
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(decode_npy(&path, &bytes).unwrap().data(), &data[..]);
+
+        let mut bad = data;
+        bad[450 * w + 7][1] = f32::NAN;
+        bad[460 * w + 2][0] = f32::INFINITY;
+        write_npy(&path, &TensorField::new(w, h, bad)).unwrap();
+        match read_npy(&path) {
+            Err(Error::NonFinite { x, y, .. }) => assert_eq!((x, y), (7, 450)),
+            other => panic!("{other:?}"),
+        }
+        // Cut short: refused before reading when far too short, and by the last block's read
+        // when short by less than the header (whose length the first check cannot know).
+        let bytes = std::fs::read(&path).unwrap();
+        for cut in [2 * NPY_BLOCK + 1000, bytes.len() - 50] {
+            match decode_npy(&path, &bytes[..cut]) {
+                Err(Error::Npy { reason, .. }) => assert!(reason.contains("truncated"), "{reason}"),
+                other => panic!("{other:?}"),
+            }
+        }
+    }
 }
