@@ -1,5 +1,5 @@
 //! Particle state during relaxation (paper section 5.3): structure-of-arrays of positions,
-//! metrics, their inverses and squares, velocities, motion flags and per-edge forces, boundary samples
+//! metric determinants, inverse and squared metrics, velocities, motion flags and per-edge forces, boundary samples
 //! first, kept in Morton order so loops over particles, their neighbours and the field read
 //! memory mostly in order. Insertion appends, deletion and reordering gather every array the
 //! same way.
@@ -12,7 +12,9 @@ use rayon::prelude::*;
 /// Particle state during relaxation, structure-of-arrays, boundary samples first.
 pub(super) struct Particles {
     pub(super) positions: Vec<DVec2>,
-    pub(super) metrics: Vec<Tensor>,
+    /// `det m` of every particle's metric (its size `√det m` squared): the metric itself is
+    /// only read through its inverse and its square.
+    pub(super) dets: Vec<f64>,
     pub(super) inverses: Vec<Tensor>,
     /// Every metric squared ([`Tensor::squared`]), what the contact distance reads.
     pub(super) squares: Vec<Tensor>,
@@ -50,6 +52,7 @@ impl Particles {
             .map(|m| m.inverse().unwrap_or_default())
             .collect();
         let squares = metrics.par_iter().map(Tensor::squared).collect();
+        let dets = metrics.par_iter().map(Tensor::det).collect();
         let velocities = vec![DVec2::ZERO; positions.len()];
         let mut motion = vec![AWAKE | MOVED; positions.len()];
         motion[..fixed].fill(0);
@@ -59,7 +62,7 @@ impl Particles {
             looked_up: positions.clone(),
             meshed_at: vec![DVec2::NAN; positions.len()],
             positions,
-            metrics,
+            dets,
             inverses,
             squares,
             velocities,
@@ -74,7 +77,7 @@ impl Particles {
         self.positions.reserve_exact(extra);
         self.looked_up.reserve_exact(extra);
         self.meshed_at.reserve_exact(extra);
-        self.metrics.reserve_exact(extra);
+        self.dets.reserve_exact(extra);
         self.inverses.reserve_exact(extra);
         self.squares.reserve_exact(extra);
         self.velocities.reserve_exact(extra);
@@ -86,7 +89,7 @@ impl Particles {
         self.positions.push(p);
         self.looked_up.push(p);
         self.meshed_at.push(DVec2::NAN);
-        self.metrics.push(m);
+        self.dets.push(m.det());
         self.inverses.push(m.inverse().unwrap_or_default());
         self.squares.push(m.squared());
         self.velocities.push(DVec2::ZERO);
@@ -143,7 +146,7 @@ impl Particles {
         gather(&mut self.velocities, order);
         gather(&mut self.looked_up, order);
         gather(&mut self.meshed_at, order);
-        gather(&mut self.metrics, order);
+        gather(&mut self.dets, order);
         gather(&mut self.inverses, order);
         gather(&mut self.squares, order);
         gather(&mut self.motion, order);

@@ -59,11 +59,11 @@ pub(super) fn repair(
         .positions
         .iter()
         .zip(&particles.meshed_at)
-        .zip(&particles.metrics)
-        .map(|((p, at), m)| {
+        .zip(&particles.dets)
+        .map(|((p, at), det)| {
             // A NaN position (never meshed) counts as moved.
             let moved = (*p - *at).length_squared();
-            moved.is_nan() || moved > MESH_REFRESH * MESH_REFRESH * m.det()
+            moved.is_nan() || moved > MESH_REFRESH * MESH_REFRESH * det
         })
         .collect();
     mesh.legalize_around(&particles.positions, field, Some(&moved));
@@ -172,7 +172,7 @@ pub(super) fn relax_once(
     let domain = field.domain();
     let Particles {
         positions,
-        metrics,
+        dets,
         inverses,
         squares,
         velocities,
@@ -216,7 +216,7 @@ pub(super) fn relax_once(
         .par_iter_mut()
         .zip(velocities[fixed..].par_iter_mut())
         .zip(
-            metrics[fixed..]
+            dets[fixed..]
                 .par_iter_mut()
                 .zip(inverses[fixed..].par_iter_mut())
                 .zip(squares[fixed..].par_iter_mut()),
@@ -228,50 +228,53 @@ pub(super) fn relax_once(
                 .zip(motion[fixed..].par_iter_mut()),
         )
         .enumerate()
-        .map(|(k, ((((pos, v), ((m, inv), sq)), at), (meshed, flags)))| {
-            let i = fixed + k;
-            let p = *pos;
-            let size = m.det().sqrt().max(1e-12);
-            if *flags & AWAKE == 0 {
-                *flags &= !(MOVED | STIRRED);
-                return (0.0, (p - *meshed).length() / size);
-            }
-            let mut force = DVec2::ZERO;
-            for (e, first) in edges.sides_at(i) {
-                if first {
-                    force += edge_forces[e];
-                } else {
-                    force -= edge_forces[e];
+        .map(
+            |(k, ((((pos, v), ((det, inv), sq)), at), (meshed, flags)))| {
+                let i = fixed + k;
+                let p = *pos;
+                let size = det.sqrt().max(1e-12);
+                if *flags & AWAKE == 0 {
+                    *flags &= !(MOVED | STIRRED);
+                    return (0.0, (p - *meshed).length() / size);
                 }
-            }
-            // Drag taken implicitly: stable for any C_drag·Δt, unlike v·(1 − C_drag·Δt).
-            *v = (*v + force * dyn_.dt) / (1.0 + dyn_.drag * dyn_.dt);
-            let mut step = *v * dyn_.dt;
-            let (cap, length) = (size / 3.0, step.length());
-            if length > cap {
-                step *= cap / length;
-            }
-            let margin = 1e-6 * size.max(1e-3);
-            *pos = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
-            let moved = (*pos - p).length() / size;
-            let next = (*v + force * dyn_.dt).length() * dyn_.dt / size;
-            *flags = AWAKE
-                | if *pos != p { MOVED } else { 0 }
-                | if moved > SLEEP { STIRRED } else { 0 }
-                | if moved < SLEEP && next < SLEEP {
-                    QUIET
-                } else {
-                    0
-                };
-            if (*pos - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
-                *m = field.sample(*pos);
-                *inv = m.inverse().unwrap_or_default();
-                *sq = m.squared();
-                *at = *pos;
-            }
-            // A NaN `meshed` (never meshed) gives NaN, which `max` ignores.
-            (moved, (*pos - *meshed).length() / size)
-        })
+                let mut force = DVec2::ZERO;
+                for (e, first) in edges.sides_at(i) {
+                    if first {
+                        force += edge_forces[e];
+                    } else {
+                        force -= edge_forces[e];
+                    }
+                }
+                // Drag taken implicitly: stable for any C_drag·Δt, unlike v·(1 − C_drag·Δt).
+                *v = (*v + force * dyn_.dt) / (1.0 + dyn_.drag * dyn_.dt);
+                let mut step = *v * dyn_.dt;
+                let (cap, length) = (size / 3.0, step.length());
+                if length > cap {
+                    step *= cap / length;
+                }
+                let margin = 1e-6 * size.max(1e-3);
+                *pos = (p + step).clamp(DVec2::splat(margin), domain - DVec2::splat(margin));
+                let moved = (*pos - p).length() / size;
+                let next = (*v + force * dyn_.dt).length() * dyn_.dt / size;
+                *flags = AWAKE
+                    | if *pos != p { MOVED } else { 0 }
+                    | if moved > SLEEP { STIRRED } else { 0 }
+                    | if moved < SLEEP && next < SLEEP {
+                        QUIET
+                    } else {
+                        0
+                    };
+                if (*pos - *at).length_squared() > METRIC_REFRESH * METRIC_REFRESH * size * size {
+                    let m = field.sample(*pos);
+                    *det = m.det();
+                    *inv = m.inverse().unwrap_or_default();
+                    *sq = m.squared();
+                    *at = *pos;
+                }
+                // A NaN `meshed` (never meshed) gives NaN, which `max` ignores.
+                (moved, (*pos - *meshed).length() / size)
+            },
+        )
         .reduce(|| (0.0, 0.0), |a, b| (a.0.max(b.0), a.1.max(b.1)));
     // Who is awake next: the restless, and whoever has a neighbour that moved. A particle
     // that falls asleep keeps no velocity.
