@@ -308,9 +308,9 @@ impl AnisotropicDelaunay {
     /// puts the triangles in the order of their smallest vertex, so that with spatially sorted
     /// vertices the loops over triangles and edges read memory mostly in order.
     pub fn renumber(&mut self, new_index: &[u32]) {
-        for o in &mut self.origin {
-            *o = new_index[*o as usize];
-        }
+        self.origin
+            .par_iter_mut()
+            .for_each(|o| *o = new_index[*o as usize]);
         self.sort_triangles();
     }
 
@@ -348,12 +348,16 @@ impl AnisotropicDelaunay {
         };
         let mut origin = vec![0u32; self.origin.len()];
         let mut twin = vec![NONE; self.twin.len()];
-        for (new, &old) in order.iter().enumerate() {
-            for k in 0..3 {
-                origin[3 * new + k] = self.origin[3 * old as usize + k];
-                twin[3 * new + k] = map(self.twin[3 * old as usize + k]);
-            }
-        }
+        origin
+            .par_chunks_exact_mut(3)
+            .zip(twin.par_chunks_exact_mut(3))
+            .zip(order.par_iter())
+            .for_each(|((o, t), &old)| {
+                for k in 0..3 {
+                    o[k] = self.origin[3 * old as usize + k];
+                    t[k] = map(self.twin[3 * old as usize + k]);
+                }
+            });
         self.origin = origin;
         self.twin = twin;
     }

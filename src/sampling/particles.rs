@@ -101,10 +101,12 @@ impl Particles {
     /// the current order, so the result is deterministic.
     /// Returns `new_index`: the new position of every old index.
     pub(super) fn sort_spatially(&mut self, domain: DVec2) -> Vec<u32> {
+        // Keys and indices are unique pairs, so the parallel sort gives the one order there is.
         let mut keyed: Vec<(u32, u32)> = (self.fixed..self.positions.len())
+            .into_par_iter()
             .map(|i| (seeding::morton_key(self.positions[i], domain), i as u32))
             .collect();
-        keyed.sort_unstable();
+        keyed.par_sort_unstable();
         let order: Vec<u32> = (0..self.fixed as u32)
             .chain(keyed.iter().map(|&(_, i)| i))
             .collect();
@@ -139,8 +141,8 @@ impl Particles {
 
     /// Keeps the particles `order` lists, in that order, in every per-particle array.
     pub(super) fn keep_in_order(&mut self, order: &[u32]) {
-        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
-            *v = order.iter().map(|&i| v[i as usize]).collect();
+        fn gather<T: Copy + Send + Sync>(v: &mut Vec<T>, order: &[u32]) {
+            *v = order.par_iter().map(|&i| v[i as usize]).collect();
         }
         gather(&mut self.positions, order);
         gather(&mut self.velocities, order);
