@@ -3,7 +3,7 @@
 //! rows, so the force of each pair is computed once and gathered per particle in a fixed
 //! order (the same result at any thread count).
 
-use super::delaunay::{next, AnisotropicDelaunay, NONE};
+use super::delaunay::{AnisotropicDelaunay, NONE};
 
 /// The edges of a mesh: `ends[e]` are edge `e`'s vertices; the edges at vertex `v` are
 /// `incident[offsets[v]..offsets[v + 1]]`, each `e << 1 | side` with side 0 when `v` is
@@ -82,17 +82,24 @@ impl AnisotropicDelaunay {
         // twin pair: about half of them, at random, so both passes below count and place
         // without branching on it (a mispredicted branch per half-edge cost a fifth of the
         // time).
-        let edge = |h: usize| {
-            let keep = self.twin[h] == NONE || (h as u32) < self.twin[h];
-            let (a, b) = (self.origin[h], self.origin[next(h)]);
-            (keep, [a.min(b), a.max(b)])
+        // Per triangle, its three half-edges (the next corner without a modulo).
+        let triangle_edges = |t: usize| {
+            let o = &self.origin[3 * t..3 * t + 3];
+            let tw = &self.twin[3 * t..3 * t + 3];
+            std::array::from_fn::<_, 3, _>(|i| {
+                let h = (3 * t + i) as u32;
+                let keep = tw[i] == NONE || h < tw[i];
+                let (a, b) = (o[i], o[(i + 1) % 3]);
+                (keep, [a.min(b), a.max(b)])
+            })
         };
         // Grouped by their lower vertex (a counting sort, in half-edge order within a
         // group): with spatially sorted vertices, a loop over edges reads in order.
         let mut start = vec![0u32; num_vertices + 1];
-        for h in 0..self.origin.len() {
-            let (keep, [a, _]) = edge(h);
-            start[a as usize + 1] += u32::from(keep);
+        for t in 0..self.num_triangles() {
+            for (keep, [a, _]) in triangle_edges(t) {
+                start[a as usize + 1] += u32::from(keep);
+            }
         }
         for i in 1..start.len() {
             start[i] += start[i - 1];
@@ -100,11 +107,12 @@ impl AnisotropicDelaunay {
         // One slot more, where the half-edges that are not kept are written.
         let count = start[num_vertices] as usize;
         let mut ends = vec![[0u32; 2]; count + 1];
-        for h in 0..self.origin.len() {
-            let (keep, e) = edge(h);
-            let slot = &mut start[e[0] as usize];
-            ends[if keep { *slot as usize } else { count }] = e;
-            *slot += u32::from(keep);
+        for t in 0..self.num_triangles() {
+            for (keep, e) in triangle_edges(t) {
+                let slot = &mut start[e[0] as usize];
+                ends[if keep { *slot as usize } else { count }] = e;
+                *slot += u32::from(keep);
+            }
         }
         ends.truncate(count);
         Edges::from_ends(ends, num_vertices)
