@@ -245,7 +245,7 @@ pub(super) fn run_sample(args: &SampleArgs) -> Result<()> {
         crate::io::write_samples_csv(out, &result.positions, &result.metrics)?;
     }
     if let Some(out) = &args.triangles {
-        crate::io::write_triangles_csv(out, result.mesh.triangles())?;
+        crate::io::write_triangles_csv(out, &result.mesh.triangles().collect::<Vec<_>>())?;
     }
     if let Some(path) = &args.preview {
         let d = field.domain();
