@@ -242,35 +242,44 @@ fn coverage(e: &Engraving, width: usize, height: usize, domain: DVec2) -> Vec<f3
             band.push(k as u32);
         }
     }
-    let mut cover = vec![0.0f32; width * height];
+    // The bands add into it: filled by writing (see `buffer`).
+    let mut cover = super::buffer::filled(width * height, 0.0f32);
     cover
         .par_chunks_mut(BAND_ROWS * width)
         .zip(&in_band)
         .enumerate()
-        .for_each(|(band, (rows, list))| {
-            // Per band, not per pixel: the line last drawn at each pixel and its coverage there.
-            let mut last = BandLayer {
-                line: vec![u32::MAX; rows.len()],
-                own: vec![0.0; rows.len()],
-                others: rows,
-                width,
-                y_start: band * BAND_ROWS,
-            };
-            for &k in list {
-                last.stamp(&segments[k as usize]);
-            }
-            for (o, own) in last.others.iter_mut().zip(&last.own) {
-                *o = (*o + own).min(1.0);
-            }
-        });
+        .for_each_init(
+            || (Vec::new(), Vec::new()),
+            |(line, own), (band, (rows, list))| {
+                // Per band, not per pixel: the line last drawn at each pixel and its coverage there
+                // (buffers reused from band to band).
+                line.clear();
+                line.resize(rows.len(), u32::MAX);
+                own.clear();
+                own.resize(rows.len(), 0.0);
+                let mut last = BandLayer {
+                    line,
+                    own,
+                    others: rows,
+                    width,
+                    y_start: band * BAND_ROWS,
+                };
+                for &k in list {
+                    last.stamp(&segments[k as usize]);
+                }
+                for (o, own) in last.others.iter_mut().zip(last.own.iter()) {
+                    *o = (*o + own).min(1.0);
+                }
+            },
+        );
     cover
 }
 
 /// One band's coverage while it is drawn: `others` holds the lines finished at each pixel,
 /// `own` the coverage of the line being drawn there (`line`).
 struct BandLayer<'a> {
-    line: Vec<u32>,
-    own: Vec<f32>,
+    line: &'a mut [u32],
+    own: &'a mut [f32],
     others: &'a mut [f32],
     width: usize,
     y_start: usize,

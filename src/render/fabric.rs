@@ -285,8 +285,9 @@ fn lic(scene: &Scene, params: &FabricParams, axis: Axis, directions: &Directions
     let reach = 2 * kernel;
     let margin = reach + 1;
     let bands = h.div_ceil(LIC_BAND_ROWS).max(1);
-    let mut total = vec![0.0f32; w * h];
-    let mut hits = vec![0u16; w * h];
+    // The bands add into these: filled by writing (see `buffer`).
+    let mut total = super::buffer::filled(w * h, 0.0f32);
+    let mut hits = super::buffer::filled(w * h, 0u16);
     // A few bands at a time, so band buffers (with their margins) never hold the whole image;
     // the buffers are made once and cleared for every group (fresh ones cost a page fault per
     // 4 KiB and the kernel's unmapping every time: 141 k faults for a 12 MP fabric).
