@@ -599,4 +599,57 @@ mod tests {
             }
         }
     }
+
+    /// Fortran-ordered float32 and big-endian float64 fields read to the same tensors as the
+    /// usual little-endian C order.
+    #[test]
+    fn npy_orders_and_byte_orders_read_alike() {
+        use npyz::WriterBuilder;
+        let (w, h) = (5usize, 3usize);
+        let value = |x: usize, y: usize, k: usize| (1 + x + 10 * y) as f64 + 0.25 * k as f64;
+        let expected: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| [0, 1, 2].map(|k| value(i % w, i / w, k) as f32))
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let shape = [h as u64, w as u64, 3];
+        // Fortran order: the first index runs fastest.
+        let fortran = dir.path().join("fortran.npy");
+        let mut bytes = Vec::new();
+        let mut writer = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&shape)
+            .order(npyz::Order::Fortran)
+            .writer(&mut bytes)
+            .begin_nd()
+            .unwrap();
+        for k in 0..3 {
+            for x in 0..w {
+                for y in 0..h {
+                    writer.push(&(value(x, y, k) as f32)).unwrap();
+                }
+            }
+        }
+        writer.finish().unwrap();
+        std::fs::write(&fortran, &bytes).unwrap();
+        assert_eq!(read_npy(&fortran).unwrap().data(), &expected[..]);
+        // Big-endian float64, C order.
+        let big = dir.path().join("big.npy");
+        let mut bytes = Vec::new();
+        let mut writer = npyz::WriteOptions::new()
+            .dtype(npyz::DType::Plain(">f8".parse().unwrap()))
+            .shape(&shape)
+            .writer(&mut bytes)
+            .begin_nd()
+            .unwrap();
+        for y in 0..h {
+            for x in 0..w {
+                for k in 0..3 {
+                    writer.push(&value(x, y, k)).unwrap();
+                }
+            }
+        }
+        writer.finish().unwrap();
+        std::fs::write(&big, &bytes).unwrap();
+        assert_eq!(read_npy(&big).unwrap().data(), &expected[..]);
+    }
 }
