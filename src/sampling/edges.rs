@@ -60,9 +60,7 @@ impl Edges {
                 }
             })
     }
-}
 
-impl Edges {
     /// The edges at vertex `v` as (edge index, whether `v` is the edge's first end), in the
     /// order of [`Self::at`], without looking up the other vertex.
     pub fn sides_at(&self, v: usize) -> impl Iterator<Item = (usize, bool)> + '_ {
@@ -81,8 +79,7 @@ impl AnisotropicDelaunay {
         // Half-edge h stands for its edge when it is on the hull or the lower-numbered of its
         // twin pair: about half of them, at random, so both passes below count and place
         // without branching on it (a mispredicted branch per half-edge cost a fifth of the
-        // time).
-        // Per triangle, its three half-edges (the next corner without a modulo).
+        // time). They are read triangle by triangle: the next corner needs no modulo.
         let triangle_edges = |t: usize| {
             let o = &self.origin[3 * t..3 * t + 3];
             let tw = &self.twin[3 * t..3 * t + 3];

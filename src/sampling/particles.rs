@@ -1,8 +1,8 @@
 //! Particle state during relaxation (paper section 5.3): structure-of-arrays of positions,
-//! metric determinants, inverse and squared metrics, velocities, motion flags and per-edge forces, boundary samples
-//! first, kept in Morton order so loops over particles, their neighbours and the field read
-//! memory mostly in order. Insertion appends, deletion and reordering gather every array the
-//! same way.
+//! metric determinants, inverse and squared metrics, velocities, motion flags and per-edge
+//! forces, boundary samples first, kept in Morton order so loops over particles, their
+//! neighbours and the field read memory mostly in order. Insertion appends, deletion and
+//! reordering gather every array the same way.
 
 use super::seeding;
 use crate::field::{Tensor, TensorField};
