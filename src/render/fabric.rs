@@ -289,8 +289,8 @@ fn lic(scene: &Scene, params: &FabricParams, axis: Axis, directions: &Directions
     let mut total = super::buffer::filled(w * h, 0.0f32);
     let mut hits = super::buffer::filled(w * h, 0u16);
     // A few bands at a time, so band buffers (with their margins) never hold the whole image;
-    // the buffers are made once and cleared for every group (fresh ones cost a page fault per
-    // 4 KiB and the kernel's unmapping every time: 141 k faults for a 12 MP fabric).
+    // the buffers are made once and cleared for every group (fresh ones cost page faults and
+    // the kernel's unmapping every time).
     let group: Vec<usize> = (0..bands).collect();
     let rows_most = (LIC_BAND_ROWS + 2 * margin).min(h);
     let mut buffers: Vec<(usize, Vec<f32>, Vec<u16>)> = (0..LIC_BANDS_AT_ONCE.min(bands))
