@@ -41,19 +41,7 @@ pub const OPTIMAL_FILL_RATE: f64 = std::f64::consts::PI / (2.0 * 1.732_050_807_5
 /// of a corner a long ellipse turned across the triangle fills (and without a field look-up).
 #[must_use]
 pub fn fill_rate(p: [DVec2; 3], inv: [Tensor; 3]) -> f64 {
-    let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]).abs();
-    if area <= 0.0 {
-        return f64::INFINITY;
-    }
-    let mut covered = 0.0;
-    for i in 0..3 {
-        let u = inv[i].mul_vec(p[(i + 1) % 3] - p[i]);
-        let v = inv[i].mul_vec(p[(i + 2) % 3] - p[i]);
-        let angle = u.perp_dot(v).abs().atan2(u.dot(v));
-        // det(m_i) = 1 / det(m_i⁻¹).
-        covered += 0.5 * angle / inv[i].det();
-    }
-    covered / area
+    sector_share(p, inv, |u, v| u.perp_dot(v).abs().atan2(u.dot(v)))
 }
 
 /// A lower bound of [`fill_rate`] without its arc tangents: each corner's angle `θ` is bounded
@@ -62,6 +50,27 @@ pub fn fill_rate(p: [DVec2; 3], inv: [Tensor; 3]) -> f64 {
 /// reads 0.84 of the exact 0.907, so most triangles of a packing are cleared by it alone.
 #[must_use]
 pub fn fill_rate_lower_bound(p: [DVec2; 3], inv: [Tensor; 3]) -> f64 {
+    let share = sector_share(p, inv, |u, v| {
+        if u.dot(v) < 0.0 {
+            return std::f64::consts::FRAC_PI_2;
+        }
+        let x = u.perp_dot(v).abs() / (u.length_squared() * v.length_squared()).sqrt();
+        // NaN (a zero edge) counts as no angle at all.
+        if x.is_nan() {
+            0.0
+        } else {
+            x + x * x * x / 6.0
+        }
+    });
+    // Rounding could lift the bound a few ulps over the exact value; this margin keeps it
+    // below.
+    share * (1.0 - 1e-9)
+}
+
+/// The three corner sectors' area over the triangle's, each corner's angle between its two
+/// edges mapped by its `m_i⁻¹` (`u`, `v`) given by `angle(u, v)` (the exact one or a bound);
+/// infinite for a degenerate triangle.
+fn sector_share(p: [DVec2; 3], inv: [Tensor; 3], angle: impl Fn(DVec2, DVec2) -> f64) -> f64 {
     let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]).abs();
     if area <= 0.0 {
         return f64::INFINITY;
@@ -70,22 +79,10 @@ pub fn fill_rate_lower_bound(p: [DVec2; 3], inv: [Tensor; 3]) -> f64 {
     for i in 0..3 {
         let u = inv[i].mul_vec(p[(i + 1) % 3] - p[i]);
         let v = inv[i].mul_vec(p[(i + 2) % 3] - p[i]);
-        let angle = if u.dot(v) >= 0.0 {
-            let x = u.perp_dot(v).abs() / (u.length_squared() * v.length_squared()).sqrt();
-            // NaN (a zero edge) counts as no angle at all.
-            if x.is_nan() {
-                0.0
-            } else {
-                x + x * x * x / 6.0
-            }
-        } else {
-            std::f64::consts::FRAC_PI_2
-        };
-        covered += 0.5 * angle / inv[i].det();
+        // The sector's area is ½·θ·det(m_i), and det(m_i) = 1 / det(m_i⁻¹).
+        covered += 0.5 * angle(u, v) / inv[i].det();
     }
-    // Rounding could lift the bound a few ulps over the exact value; this margin keeps it
-    // below.
-    covered / area * (1.0 - 1e-9)
+    covered / area
 }
 
 /// When a triangle receives a new sample.
