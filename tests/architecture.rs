@@ -338,7 +338,7 @@ fn the_checker_sees_imports() {
         "super:: path"
     );
     assert!(
-        has(&["io"], &["field", "grid"]),
+        has(&["io", "npy"], &["field", "grid"]),
         "crate:: path through a re-export"
     );
     assert!(has(&["input"], &["io"]), "crate:: path");
