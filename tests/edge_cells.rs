@@ -277,6 +277,51 @@ fn the_cell_maps_shortcut_gives_the_searched_owner() {
     }
 }
 
+#[test]
+fn the_site_search_gives_the_owners_site() {
+    // Owner maps and per-cell sums take only the owning site: the same site as the full
+    // search, with the cell map, with the colour term alone (the assign-and-move rounds) and
+    // for the paper's cells, at pixel centres (which the cell map settles) and between them.
+    use anisopaint::render::{Owner, Raster, VoronoiCells};
+    let mut grainy = line_picture(30.0, 3.0);
+    for (i, p) in grainy.pixels_mut().enumerate() {
+        p.0 = p.0.map(|v| v.saturating_add(((i * 7919) % 23) as u8));
+    }
+    let (loaded, sites) = edge_cells_of(&DynamicImage::ImageRgb8(grainy));
+    let mapped = sites.cells();
+    let mut bare_term = mapped.colour().expect("a colour term").clone();
+    bare_term.map = None;
+    let new_cells = || VoronoiCells::new(&sites.positions, &sites.metrics, &sites.mesh);
+    let paper = new_cells();
+    for (name, cells) in [
+        ("mapped", mapped),
+        ("colour term", new_cells().with_colour(&bare_term)),
+        ("paper's cells", new_cells()),
+    ] {
+        let mut moved = 0;
+        for scale in [1, 3] {
+            let raster = Raster {
+                width: W as usize * scale,
+                height: H as usize * scale,
+                supersample: 1,
+                domain: loaded.metric.domain(),
+            };
+            let mut owners = vec![Owner::NOBODY; raster.width * raster.height];
+            cells.shade_rows(&raster, &mut owners, raster.width, |_, found, row| {
+                row.copy_from_slice(found);
+            });
+            for (k, o) in owners.iter().enumerate() {
+                let p = raster.point(k % raster.width, k / raster.width);
+                let t = o.triangle as usize;
+                assert_eq!(cells.site_in_triangle(t, p), o.site, "{name}: {p}");
+                moved += usize::from(o.site != paper.owner_searched(t, p).site);
+            }
+        }
+        // Not a vacuous comparison: the colour term moves owners off the nearest site.
+        assert_eq!(moved > 0, name != "paper's cells", "{name}: {moved} moved");
+    }
+}
+
 /// Checks that every pixel's owner is the searched one, and returns the share of pixels the
 /// cell map settled.
 fn shortcut_agrees(photo: &DynamicImage) -> f64 {

@@ -72,6 +72,55 @@ impl VoronoiCells<'_> {
         P: Send,
         F: Fn(usize, &[Owner], &mut [P]) + Sync,
     {
+        self.rows_of(
+            raster,
+            out,
+            row_len,
+            Owner::NOBODY,
+            |t, p| match t {
+                Some(t) => self.owner_in_triangle(t, p),
+                None => self.owner_brute_force(p),
+            },
+            shade,
+        );
+    }
+
+    /// [`Self::shade_rows`] with only the owning sites ([`VoronoiCells::site_in_triangle`]),
+    /// for callers that need no runner-up or distance.
+    pub fn site_rows<P, F>(&self, raster: &Raster, out: &mut [P], row_len: usize, shade: F)
+    where
+        P: Send,
+        F: Fn(usize, &[u32], &mut [P]) + Sync,
+    {
+        self.rows_of(
+            raster,
+            out,
+            row_len,
+            NONE,
+            |t, p| match t {
+                Some(t) => self.site_in_triangle(t, p),
+                None => self.owner_brute_force(p).site,
+            },
+            shade,
+        );
+    }
+
+    /// The driver of [`Self::shade_rows`] and [`Self::site_rows`]: `at(triangle, p)` is what
+    /// a pixel centre `p` gets, its triangle `None` where no triangle covers its row.
+    fn rows_of<T, P, A, F>(
+        &self,
+        raster: &Raster,
+        out: &mut [P],
+        row_len: usize,
+        none: T,
+        at: A,
+        shade: F,
+    ) where
+        T: Copy + Send + Sync,
+        P: Send,
+        A: Fn(Option<usize>, DVec2) -> T + Sync,
+        F: Fn(usize, &[T], &mut [P]) + Sync,
+    {
         let raster = Raster {
             supersample: 1,
             ..*raster
@@ -87,20 +136,17 @@ impl VoronoiCells<'_> {
                 let rows_here = chunk.len() / row_len.max(1);
                 let mut tri = vec![NONE; rows_here * width];
                 self.rasterise(&raster, list, first_row, &mut tri);
-                let mut owners = vec![Owner::NOBODY; width];
+                let mut values = vec![none; width];
                 let step = raster.step();
                 for (k, row) in chunk.chunks_mut(row_len).enumerate() {
                     let tris = &tri[k * width..(k + 1) * width];
                     let y = (((first_row + k) as f64) + 0.5) * step.y;
-                    for (x, o) in owners.iter_mut().enumerate() {
+                    for (x, v) in values.iter_mut().enumerate() {
                         // `raster.point(x, first_row + k)`, with the step divided out once.
                         let p = DVec2::new((x as f64 + 0.5) * step.x, y);
-                        *o = match triangle_near(tris, x) {
-                            Some(t) => self.owner_in_triangle(t, p),
-                            None => self.owner_brute_force(p),
-                        };
+                        *v = at(triangle_near(tris, x), p);
                     }
-                    shade(first_row + k, &owners, row);
+                    shade(first_row + k, &values, row);
                 }
             });
     }
@@ -207,10 +253,8 @@ fn triangle_near(row: &[u32], x: usize) -> Option<usize> {
 #[must_use]
 pub fn owner_map(cells: &VoronoiCells, raster: &Raster) -> Vec<u32> {
     let mut owners = vec![NONE; raster.width * raster.height];
-    cells.shade_rows(raster, &mut owners, raster.width, |_, row_owners, row| {
-        for (l, o) in row.iter_mut().zip(row_owners) {
-            *l = o.site;
-        }
+    cells.site_rows(raster, &mut owners, raster.width, |_, sites, row| {
+        row.copy_from_slice(sites);
     });
     owners
 }

@@ -381,24 +381,8 @@ impl<'a> VoronoiCells<'a> {
             None => nearest_two(candidates.map(|&c| (c, self.quads[c as usize].delta_squared(p)))),
             Some(term) => {
                 let colour = term.colour_only_at(p);
-                // δ² of every candidate; a candidate farther than the nearest plus the reach
-                // is out (compared squared: one square root per point, not six).
-                let mut squared = [(NONE, f64::INFINITY); 6];
-                let mut nearest = f64::INFINITY;
-                for (slot, &c) in squared.iter_mut().zip(candidates) {
-                    let d2 = self.quads[c as usize].delta_squared(p);
-                    nearest = nearest.min(d2);
-                    *slot = (c, d2);
-                }
-                let limit = nearest.sqrt() + term.reach;
-                // Never under the nearest's own δ² (the square of its root can round below).
-                let limit = (limit * limit).max(nearest);
-                let two = nearest_two(
-                    squared
-                        .into_iter()
-                        .filter(|&(_, d2)| d2 <= limit)
-                        .map(|(c, d2)| (c, d2 + term.cost(colour, c))),
-                );
+                let costs = self.colour_distances(term, &self.candidates[t], p, colour);
+                let two = nearest_two(self.candidates[t].into_iter().zip(costs));
                 as_mapped(term, p, two, |c| {
                     self.quads[c as usize].delta_squared(p) + term.cost(colour, c)
                 })
@@ -412,6 +396,62 @@ impl<'a> VoronoiCells<'a> {
             triangle: t as u32,
             border_px: f32::INFINITY,
         }
+    }
+
+    /// The owning site of `p` among the candidates of triangle `t`: [`Self::owner_in_triangle`]'s
+    /// site, the same one, without the runner-up, its distance or a square root (what owner
+    /// maps and per-cell sums need).
+    #[inline]
+    #[must_use]
+    pub fn site_in_triangle(&self, t: usize, p: DVec2) -> u32 {
+        let candidates = &self.candidates[t];
+        let Some(term) = self.colour else {
+            return nearest(
+                candidates
+                    .iter()
+                    .map(|&c| (c, self.quads[c as usize].delta_squared(p))),
+            );
+        };
+        let map = term.map.as_ref();
+        if let Some(site) = map.and_then(|map| map.settled_owner(p)) {
+            return site;
+        }
+        let colour = term.colour_only_at(p);
+        let costs = self.colour_distances(term, candidates, p, colour);
+        let site = nearest(candidates.iter().copied().zip(costs));
+        // As `as_mapped`: an absorbed pixel belongs to its new cell.
+        map.and_then(|map| map.absorbed_into(p)).unwrap_or(site)
+    }
+
+    /// `D² = δ² + w·|c − c_i|²` of each of `candidates` at `p` (`colour` the photo's there),
+    /// infinite for a candidate farther than the nearest plus the reach, which is out
+    /// (compared squared: one square root per point, not six). Plain loops over the six: the
+    /// owner searches run them at every pixel.
+    #[inline]
+    fn colour_distances(
+        &self,
+        term: &ColourTerm,
+        candidates: &[u32; 6],
+        p: DVec2,
+        colour: [f32; 3],
+    ) -> [f64; 6] {
+        let mut squared = [0.0f64; 6];
+        let mut nearest = f64::INFINITY;
+        for (d2, &c) in squared.iter_mut().zip(candidates) {
+            *d2 = self.quads[c as usize].delta_squared(p);
+            nearest = nearest.min(*d2);
+        }
+        let limit = nearest.sqrt() + term.reach;
+        // Never under the nearest's own δ² (the square of its root can round below).
+        let limit = (limit * limit).max(nearest);
+        for (d2, &c) in squared.iter_mut().zip(candidates) {
+            *d2 = if *d2 <= limit {
+                *d2 + term.cost(colour, c)
+            } else {
+                f64::INFINITY
+            };
+        }
+        squared
     }
 
     /// `∇δ_j − ∇δ_i` at `p` for the owner `i` and runner-up `j` of `o` (zero without one):
@@ -519,6 +559,19 @@ fn as_mapped(
         return ((site, d1), (NONE, f64::INFINITY));
     }
     two
+}
+
+/// The nearest of `(site, distance)` pairs, the first of equals ([`nearest_two`]'s nearest);
+/// `NONE` if there are none.
+#[inline]
+fn nearest(sites: impl Iterator<Item = (u32, f64)>) -> u32 {
+    let mut best = (NONE, f64::INFINITY);
+    for (c, d) in sites {
+        if d < best.1 {
+            best = (c, d);
+        }
+    }
+    best.0
 }
 
 /// The nearest and second-nearest of `(site, distance)` pairs (`NONE` and infinity where
