@@ -56,29 +56,52 @@ pub fn one_piece(
         .collect();
     // Mean colours of the small pieces only.
     let mut mean = vec![[0.0f32; 3]; pieces.len()];
-    for (k, run) in runs.runs.iter().enumerate() {
-        let id = piece_of_run[k] as usize;
-        if !small[id] {
-            continue;
-        }
-        let y = runs.row_of(k);
-        for x in run.x as usize..(run.x + run.len) as usize {
-            let c = colour(x, y);
-            for (m, v) in mean[id].iter_mut().zip(c) {
-                *m += v / size[id] as f32;
+    for y in 0..runs.rows() {
+        for k in runs.of_row(y) {
+            let (run, id) = (runs.runs[k], piece_of_run[k] as usize);
+            if !small[id] {
+                continue;
+            }
+            for x in run.x as usize..(run.x + run.len) as usize {
+                let c = colour(x, y);
+                for (m, v) in mean[id].iter_mut().zip(c) {
+                    *m += v / size[id] as f32;
+                }
             }
         }
     }
     let target = targets(&runs, &piece_of_run, &pieces, &small, &mean, means);
-    for (k, run) in runs.runs.iter().enumerate() {
-        let id = piece_of_run[k] as usize;
-        if small[id] && target[id] != run.owner {
-            let row = runs.row_of(k) * width;
-            let span = row + run.x as usize..row + (run.x + run.len) as usize;
-            owners[span].fill(target[id] | CellMap::ABSORBED);
+    for y in 0..runs.rows() {
+        for k in runs.of_row(y) {
+            let (run, id) = (runs.runs[k], piece_of_run[k] as usize);
+            if small[id] && target[id] != run.owner {
+                let row = y * width;
+                let span = row + run.x as usize..row + (run.x + run.len) as usize;
+                owners[span].fill(target[id] | CellMap::ABSORBED);
+            }
         }
     }
     CellMap::new(width, height, owners)
+}
+
+/// Appends the runs of one row of owners to `runs`.
+fn row_runs(row: &[u32], runs: &mut Vec<Run>) {
+    let mut x = 0;
+    while x < row.len() {
+        let owner = row[x];
+        let end = row[x..]
+            .iter()
+            .position(|&o| o != owner)
+            .map_or(row.len(), |n| x + n);
+        if owner != NONE {
+            runs.push(Run {
+                x: x as u32,
+                len: (end - x) as u32,
+                owner,
+            });
+        }
+        x = end;
+    }
 }
 
 /// One row's stretch of pixels of one owner.
@@ -103,30 +126,20 @@ impl Runs {
         let mut row_start = Vec::with_capacity(height + 1);
         for row in owners.chunks_exact(width.max(1)).take(height) {
             row_start.push(runs.len());
-            let mut x = 0;
-            while x < row.len() {
-                let owner = row[x];
-                let end = row[x..]
-                    .iter()
-                    .position(|&o| o != owner)
-                    .map_or(row.len(), |n| x + n);
-                if owner != NONE {
-                    runs.push(Run {
-                        x: x as u32,
-                        len: (end - x) as u32,
-                        owner,
-                    });
-                }
-                x = end;
-            }
+            row_runs(row, &mut runs);
         }
         row_start.push(runs.len());
         Runs { runs, row_start }
     }
 
-    /// The row of run `k`.
-    fn row_of(&self, k: usize) -> usize {
-        self.row_start.partition_point(|&s| s <= k) - 1
+    /// The runs of row `y` (indices into `runs`).
+    fn of_row(&self, y: usize) -> std::ops::Range<usize> {
+        self.row_start[y]..self.row_start[y + 1]
+    }
+
+    /// Rows of the map.
+    fn rows(&self) -> usize {
+        self.row_start.len() - 1
     }
 
     /// Calls `touch(a, b)` for every pair of runs that share a pixel edge: neighbours in a row
