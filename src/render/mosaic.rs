@@ -4,8 +4,9 @@
 //! Borders are anti-aliased from the distance difference: the distance in pixels from a point
 //! to the border between its owner `i` and the runner-up `j` is about
 //! `(δ_j − δ_i) / |∇δ_j − ∇δ_i|` (first order, measured by the scene), so borders keep an
-//! even width in pixels whatever the cell's size and stretch. Relief lights each cell as a dome `1 − δ_i²` from the
-//! upper left (GEGL's mosaic has a bevel of the same kind). Shading is `f32` in linear light.
+//! even width in pixels whatever the cell's size and stretch. Relief lights each cell as a
+//! dome `1 − δ_i²` from the upper left (GEGL's mosaic has a bevel of the same kind), its slope
+//! from one vector per cell ([`dome_tilts`]). Shading is `f32` in linear light.
 
 use super::colour::{mix, salt, site_hash, Linear};
 use super::scene::Scene;
@@ -54,16 +55,19 @@ impl MosaicParams {
 #[must_use]
 pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let border = super::colour::linear_of(params.border_colour);
-    let light = DVec2::new(-1.0, -1.0).normalize();
+    let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
     scene.shade(|p, o| {
         let mut c = params.jittered(scene.colours[o.site as usize], o.site);
-        if params.relief > 0.0 {
-            // Dome h = 1 − δ², ∇h = −2δ∇δ; the slope towards the light brightens.
-            let g = scene.cells.delta_gradient(o.site, p) * (-2.0 * f64::from(o.delta));
-            let r = scene.cells.metrics()[o.site as usize].det().sqrt();
-            let slope = (g.dot(light) * r) as f32;
-            let k = (1.0 + params.relief * 0.5 * slope).clamp(0.0, 2.0);
-            c = c.map(|v| (v * k).clamp(0.0, 1.0));
+        if let Some(tilts) = &tilts {
+            let site = o.site as usize;
+            let d = p - scene.cells.positions()[site];
+            let delta_squared = scene.cells.delta_squared(o.site, p);
+            if delta_squared > 0.0 {
+                let slope =
+                    (-2.0 * f64::from(o.delta) * d.dot(tilts[site]) / delta_squared.sqrt()) as f32;
+                let k = (1.0 + params.relief * 0.5 * slope).clamp(0.0, 2.0);
+                c = c.map(|v| (v * k).clamp(0.0, 1.0));
+            }
         }
         if params.border_width > 0.0 {
             let ink = border_coverage(o, params.border_width);
@@ -71,6 +75,25 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
         }
         c
     })
+}
+
+/// Per cell, the vector `Q l r` that gives the relief's slope towards the light at offset `d`
+/// from the site as `−2 (D/δ) (d · Q l r)`: the dome `h = 1 − δ²` has `∇h = −2δ∇δ` and
+/// `∇δ = Q d / δ` (`Q = m⁻ᵀm⁻¹`), `l` is the light from the upper left and `r = √det m` the
+/// cell's mean radius; the owner's `D` stands for the first `δ` (it is `δ` for the paper's
+/// cells, and includes the colour term for edge-following ones). One division and one square
+/// root per pixel.
+fn dome_tilts(scene: &Scene) -> Vec<DVec2> {
+    let light = DVec2::new(-1.0, -1.0).normalize();
+    scene
+        .cells
+        .metrics()
+        .iter()
+        .map(|m| {
+            let q = m.inverse().unwrap_or_default().squared();
+            q.mul_vec(light) * m.det().sqrt()
+        })
+        .collect()
 }
 
 /// How much of a point is border ink: 1 within half the width of the border between its owner

@@ -335,6 +335,13 @@ impl<'a> VoronoiCells<'a> {
         self.inverses[i].mul_vec(p - self.positions[i]).length()
     }
 
+    /// `δ_i(p)²`, from the packed quadratic form the owner search uses.
+    #[inline]
+    #[must_use]
+    pub fn delta_squared(&self, i: u32, p: DVec2) -> f64 {
+        self.quads[i as usize].delta_squared(p)
+    }
+
     /// Gradient of `δ_i` at `p`: `m⁻ᵀ m⁻¹ (p − p_i) / δ_i` (`m⁻¹` is symmetric).
     #[inline]
     #[must_use]
