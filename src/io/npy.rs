@@ -168,6 +168,9 @@ fn tensors_c(
             .zip(bytes.par_chunks(row_bytes.max(1)))
             .enumerate()
             .find_map_first(|(y, (row, bytes))| {
+                if bytes_per == 4 && !big {
+                    return little_f32_row(row, bytes).map(|x| (x, y));
+                }
                 let pixels = row.iter_mut().zip(bytes.chunks_exact(3 * bytes_per));
                 for (x, (t, px)) in pixels.enumerate() {
                     for (k, v) in px.chunks_exact(bytes_per).enumerate() {
@@ -184,6 +187,23 @@ fn tensors_c(
         }
     }
     Ok(out)
+}
+
+/// One row of little-endian `f32` tensors (the usual `.npy` of a float32 array) into `row`,
+/// without a branch per value: [`stored_value`]'s values, and the column of the first pixel
+/// holding one that is not finite.
+fn little_f32_row(row: &mut [[f32; 3]], bytes: &[u8]) -> Option<usize> {
+    let mut finite = true;
+    for (t, px) in row.iter_mut().zip(bytes.chunks_exact(12)) {
+        *t = std::array::from_fn(|k| {
+            f32::from_le_bytes([px[4 * k], px[4 * k + 1], px[4 * k + 2], px[4 * k + 3]])
+        });
+        finite &= t.iter().all(|v| v.is_finite());
+    }
+    if finite {
+        return None;
+    }
+    row.iter().position(|t| !t.iter().all(|v| v.is_finite()))
 }
 
 /// Bytes of a `.npy` file [`tensors_c`] reads and converts at a time: large enough for the
