@@ -124,7 +124,7 @@ fn check_size(path: &Path, width: u64, height: u64) -> Result<()> {
 }
 
 /// Writes samples as CSV `x,y,m11,m12,m22` (pixels), one row per sample, atomically. Rows are
-/// formatted in parallel, [`CSV_ROWS`] at a time, and written in order.
+/// formatted in parallel, `CSV_ROWS` at a time, and written in order.
 pub fn write_samples_csv(path: &Path, positions: &[glam::DVec2], metrics: &[Tensor]) -> Result<()> {
     use std::fmt::Write as _;
     write_atomic(path, |w| {

@@ -16,7 +16,8 @@
 
 use super::cellmap::CellMap;
 use super::pieces::one_piece;
-use super::raster::{block_stride, owner_map, BlockSums, Raster, BLOCKS_PER_CELL};
+use super::raster::{owner_map, Raster};
+use super::sums::{block_stride, BlockSums, BLOCKS_PER_CELL};
 use super::voronoi::{ColourTerm, VoronoiCells};
 use crate::field::blur::gaussian_blur_u8_parallel;
 use crate::field::{Tensor, TensorField};

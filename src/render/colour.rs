@@ -3,8 +3,8 @@
 //! of the photo under it), and a colour map for fields without a photo. Linear values are
 //! `f32` in [0, 1]; encoded values are `u8`.
 
-use super::raster::pixel_sums;
 use super::rounding::floor;
+use super::sums::pixel_sums;
 use super::voronoi::VoronoiCells;
 use crate::field::Tensor;
 use image::DynamicImage;

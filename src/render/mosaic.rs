@@ -6,7 +6,7 @@
 //! `(δ_j − δ_i) / |∇δ_j − ∇δ_i|` (first order, measured by the scene), so borders keep an
 //! even width in pixels whatever the cell's size and stretch. Relief lights each cell as a
 //! dome `1 − δ_i²` from the upper left (GEGL's mosaic has a bevel of the same kind), its slope
-//! from one vector per cell ([`dome_tilts`]). Shading is `f32` in linear light.
+//! from one vector per cell (`dome_tilts`). Shading is `f32` in linear light.
 
 use super::colour::{mix, salt, site_hash, Linear};
 use super::scene::Scene;
