@@ -56,29 +56,25 @@ pub fn one_piece(
         .collect();
     // Mean colours of the small pieces only.
     let mut mean = vec![[0.0f32; 3]; pieces.len()];
-    for y in 0..runs.rows() {
-        for k in runs.of_row(y) {
-            let (run, id) = (runs.runs[k], piece_of_run[k] as usize);
-            if !small[id] {
-                continue;
-            }
-            for x in run.x as usize..(run.x + run.len) as usize {
-                let c = colour(x, y);
-                for (m, v) in mean[id].iter_mut().zip(c) {
-                    *m += v / size[id] as f32;
-                }
+    for (k, y, run) in runs.with_rows() {
+        let id = piece_of_run[k] as usize;
+        if !small[id] {
+            continue;
+        }
+        for x in run.x as usize..(run.x + run.len) as usize {
+            let c = colour(x, y);
+            for (m, v) in mean[id].iter_mut().zip(c) {
+                *m += v / size[id] as f32;
             }
         }
     }
     let target = targets(&runs, &piece_of_run, &pieces, &small, &mean, means);
-    for y in 0..runs.rows() {
-        for k in runs.of_row(y) {
-            let (run, id) = (runs.runs[k], piece_of_run[k] as usize);
-            if small[id] && target[id] != run.owner {
-                let row = y * width;
-                let span = row + run.x as usize..row + (run.x + run.len) as usize;
-                owners[span].fill(target[id] | CellMap::ABSORBED);
-            }
+    for (k, y, run) in runs.with_rows() {
+        let id = piece_of_run[k] as usize;
+        if small[id] && target[id] != run.owner {
+            let row = y * width;
+            let span = row + run.x as usize..row + (run.x + run.len) as usize;
+            owners[span].fill(target[id] | CellMap::ABSORBED);
         }
     }
     CellMap::new(width, height, owners)
@@ -132,14 +128,12 @@ impl Runs {
         Runs { runs, row_start }
     }
 
-    /// The runs of row `y` (indices into `runs`).
-    fn of_row(&self, y: usize) -> std::ops::Range<usize> {
-        self.row_start[y]..self.row_start[y + 1]
-    }
-
-    /// Rows of the map.
-    fn rows(&self) -> usize {
-        self.row_start.len() - 1
+    /// Every run with its index and row, in scan order.
+    fn with_rows(&self) -> impl Iterator<Item = (usize, usize, Run)> + '_ {
+        self.row_start
+            .windows(2)
+            .enumerate()
+            .flat_map(move |(y, w)| (w[0]..w[1]).map(move |k| (k, y, self.runs[k])))
     }
 
     /// Calls `touch(a, b)` for every pair of runs that share a pixel edge: neighbours in a row
