@@ -322,6 +322,60 @@ fn the_site_search_gives_the_owners_site() {
     }
 }
 
+#[test]
+fn shading_settled_pixels_without_the_search_gives_the_same_picture() {
+    // `Scene::shade_settled` hands the pixels the cell map settles to `inside` with the owner
+    // found without the search: the picture must be `Scene::shade`'s to the byte (the colour
+    // reads the owner's site, `D`, runner-up and border), `inside` must get the site's `δ²`,
+    // and it must really run at the photo's own size (on most pixels of a clean picture, on
+    // few of a grainy one, whose cells leave specks), and never where the map's pixels are
+    // not the raster's.
+    use anisopaint::render::{Owner, Scene};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let clean = line_picture(30.0, 3.0);
+    let mut grainy = clean.clone();
+    for (i, p) in grainy.pixels_mut().enumerate() {
+        p.0 = p.0.map(|v| v.saturating_add(((i * 7919) % 23) as u8));
+    }
+    // A colour from every part of the owner: site, `D`, runner-up, border distance.
+    let colour = |p: DVec2, o: &Owner| {
+        let ink = (1.0 - o.border_px).clamp(0.0, 1.0);
+        let wave = (0.1 * p.x).sin() as f32 * 0.05;
+        let shade = (o.site % 7) as f32 / 8.0 + 0.2 * o.delta.min(1.0) + wave;
+        [
+            shade * (1.0 - ink),
+            (o.second % 5) as f32 / 5.0 * (1.0 - ink),
+            ink,
+        ]
+    };
+    for (name, picture) in [("clean", clean), ("grainy", grainy)] {
+        let photo = DynamicImage::ImageRgb8(picture);
+        let (loaded, sites) = edge_cells_of(&photo);
+        for (scale, ss) in [(1, 1), (1, 2), (2, 1)] {
+            let (w, h) = (W as usize * scale, H as usize * scale);
+            let scene = Scene::new(sites.cells(), &loaded.metric, Some(&photo), w, h, ss);
+            let calls = AtomicUsize::new(0);
+            let settled = scene.shade_settled(colour, |p, delta_squared, o| {
+                calls.fetch_add(1, Ordering::Relaxed);
+                assert_eq!(delta_squared, scene.cells.delta_squared(o.site, p));
+                assert_eq!(o.border_px, f32::INFINITY);
+                colour(p, o)
+            });
+            let searched = scene.shade(colour);
+            assert!(
+                settled == searched,
+                "{name} {w}x{h}, {ss}x{ss}: pictures differ"
+            );
+            let calls = calls.into_inner();
+            match (scale, name) {
+                (1, "clean") => assert!(calls > w * h / 2, "{name}: {calls} settled"),
+                (1, _) => assert!(calls > 0, "{name}: none settled"),
+                _ => assert_eq!(calls, 0, "{name} {w}x{h}: the map is not the raster's"),
+            }
+        }
+    }
+}
+
 /// Checks that every pixel's owner is the searched one, and returns the share of pixels the
 /// cell map settled.
 fn shortcut_agrees(photo: &DynamicImage) -> f64 {

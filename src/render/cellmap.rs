@@ -89,6 +89,13 @@ impl CellMap {
         if p.x != x as f64 + 0.5 || p.y != y as f64 + 0.5 {
             return None;
         }
+        self.settled_at(x, y)
+    }
+
+    /// [`Self::settled_owner`] at the centre of pixel (`x`, `y`), which must be inside the map.
+    #[inline]
+    #[must_use]
+    pub fn settled_at(&self, x: usize, y: usize) -> Option<u32> {
         let own = self.owners[y * self.width + x];
         if own == NONE {
             return None;

@@ -56,12 +56,12 @@ impl MosaicParams {
 pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let border = super::colour::linear_of(params.border_colour);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
-    scene.shade(|p, o| {
+    // The cell's colour with its relief at `p`, from the site's `δ²` there.
+    let inside = |p: DVec2, delta_squared: f64, o: &Owner| {
         let mut c = params.jittered(scene.colours[o.site as usize], o.site);
         if let Some(tilts) = &tilts {
             let site = o.site as usize;
             let d = p - scene.cells.positions()[site];
-            let delta_squared = scene.cells.delta_squared(o.site, p);
             if delta_squared > 0.0 {
                 let slope =
                     (-2.0 * f64::from(o.delta) * d.dot(tilts[site]) / delta_squared.sqrt()) as f32;
@@ -69,12 +69,20 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
                 c = c.map(|v| (v * k).clamp(0.0, 1.0));
             }
         }
-        if params.border_width > 0.0 {
-            let ink = border_coverage(o, params.border_width);
-            c = mix(c, border, ink);
-        }
         c
-    })
+    };
+    // Pixels the cell map settles have no border near: no ink (`border_coverage` is 0).
+    scene.shade_settled(
+        |p, o| {
+            let c = inside(p, scene.cells.delta_squared(o.site, p), o);
+            if params.border_width > 0.0 {
+                mix(c, border, border_coverage(o, params.border_width))
+            } else {
+                c
+            }
+        },
+        inside,
+    )
 }
 
 /// Per cell, the vector `Q l r` that gives the relief's slope towards the light at offset `d`

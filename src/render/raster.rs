@@ -2,11 +2,13 @@
 //! [`Raster`] says where pixels lie in the field's domain; the anisotropic Delaunay triangles
 //! are scan-converted in parallel bands of rows, so every pixel centre gets its containing
 //! triangle without a search, and [`VoronoiCells::shade_rows`] hands each output row its
-//! pixels' [`Owner`]s, band by band, so memory stays a few rows deep whatever the image size.
-//! [`VoronoiCells::site_rows`] hands out the owning sites alone; [`owner_map`] and
+//! pixels' [`Owner`]s, band by band, so memory stays a few rows deep whatever the image size;
+//! [`VoronoiCells::shade_rows_settled`] leaves out the search where the cell map settles the
+//! owner. [`VoronoiCells::site_rows`] hands out the owning sites alone; [`owner_map`] and
 //! [`label_map`] keep them. Per-cell sums of a photo's pixels are in
 //! [`sums`](super::sums). Positions are `f64`.
 
+use super::cellmap::CellMap;
 use super::rounding::{ceil, floor};
 use super::voronoi::{Owner, VoronoiCells, NONE};
 use glam::DVec2;
@@ -80,6 +82,42 @@ impl VoronoiCells<'_> {
                 Some(t) => self.owner_in_triangle(t, p),
                 None => self.owner_brute_force(p),
             },
+            None,
+            |y, owners, _, row| shade(y, owners, row),
+        );
+    }
+
+    /// [`Self::shade_rows`] without the owner search where the colour term's cell map settles
+    /// the owner ([`CellMap::settled_at`]): `shade(y, owners, settled, row)` gets those pixels'
+    /// sites in `settled` ([`NONE`] elsewhere) and [`Owner::NOBODY`] in `owners`, and finds
+    /// their owners itself ([`VoronoiCells::settled_owner`]). The map is read only when the
+    /// raster's points are its pixels' centres (a picture at the photo's own size); otherwise
+    /// `settled` is empty and every pixel is searched as by [`Self::shade_rows`].
+    pub fn shade_rows_settled<P, F>(&self, raster: &Raster, out: &mut [P], row_len: usize, shade: F)
+    where
+        P: Send,
+        F: Fn(usize, &[Owner], &[u32], &mut [P]) + Sync,
+    {
+        let centres = Raster {
+            supersample: 1,
+            ..*raster
+        };
+        let map = self
+            .colour()
+            .and_then(|term| term.map.as_ref())
+            .filter(|map| {
+                map.size() == (centres.width, centres.height) && centres.step() == DVec2::ONE
+            });
+        self.rows_of(
+            raster,
+            out,
+            row_len,
+            Owner::NOBODY,
+            |t, p| match t {
+                Some(t) => self.owner_in_triangle(t, p),
+                None => self.owner_brute_force(p),
+            },
+            map,
             shade,
         );
     }
@@ -100,12 +138,16 @@ impl VoronoiCells<'_> {
                 Some(t) => self.site_in_triangle(t, p),
                 None => self.owner_brute_force(p).site,
             },
-            shade,
+            None,
+            |y, sites, _, row| shade(y, sites, row),
         );
     }
 
-    /// The driver of [`Self::shade_rows`] and [`Self::site_rows`]: `at(triangle, p)` is what
-    /// a pixel centre `p` gets, its triangle `None` where no triangle covers its row.
+    /// The driver of [`Self::shade_rows`], [`Self::shade_rows_settled`] and
+    /// [`Self::site_rows`]: `at(triangle, p)` is what a pixel centre `p` gets, its triangle
+    /// `None` where no triangle covers its row; where `settle` (a map of the raster's own
+    /// pixels) settles a pixel, it gets `none` and its site goes to `shade`'s third slice.
+    #[allow(clippy::too_many_arguments)]
     fn rows_of<T, P, A, F>(
         &self,
         raster: &Raster,
@@ -113,12 +155,13 @@ impl VoronoiCells<'_> {
         row_len: usize,
         none: T,
         at: A,
+        settle: Option<&CellMap>,
         shade: F,
     ) where
         T: Copy + Send + Sync,
         P: Send,
         A: Fn(Option<usize>, DVec2) -> T + Sync,
-        F: Fn(usize, &[T], &mut [P]) + Sync,
+        F: Fn(usize, &[T], &[u32], &mut [P]) + Sync,
     {
         let raster = Raster {
             supersample: 1,
@@ -136,16 +179,26 @@ impl VoronoiCells<'_> {
                 let mut tri = vec![NONE; rows_here * width];
                 self.rasterise(&raster, list, first_row, &mut tri);
                 let mut values = vec![none; width];
+                let mut settled = vec![NONE; if settle.is_some() { width } else { 0 }];
                 let step = raster.step();
                 for (k, row) in chunk.chunks_mut(row_len).enumerate() {
                     let tris = &tri[k * width..(k + 1) * width];
                     let y = (((first_row + k) as f64) + 0.5) * step.y;
+                    if let Some(map) = settle {
+                        for (x, s) in settled.iter_mut().enumerate() {
+                            *s = map.settled_at(x, first_row + k).unwrap_or(NONE);
+                        }
+                    }
                     for (x, v) in values.iter_mut().enumerate() {
+                        if settled.get(x).is_some_and(|&s| s != NONE) {
+                            *v = none;
+                            continue;
+                        }
                         // `raster.point(x, first_row + k)`, with the step divided out once.
                         let p = DVec2::new((x as f64 + 0.5) * step.x, y);
                         *v = at(triangle_near(tris, x), p);
                     }
-                    shade(first_row + k, &values, row);
+                    shade(first_row + k, &values, &settled, row);
                 }
             });
     }

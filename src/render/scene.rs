@@ -1,7 +1,8 @@
 //! What every look draws from: a [`Scene`] (the generalized Voronoi cells of paper section 6,
 //! their colours, the field, the output size). Cell looks shade raster points through
-//! [`Scene::shade`], which averages `supersample²` points per pixel in linear light. The looks
-//! import this file; it imports none of them.
+//! [`Scene::shade`], which averages `supersample²` points per pixel in linear light, or
+//! [`Scene::shade_settled`], which shades the pixels the cell map settles inside their cells
+//! without the owner search. The looks import this file; it imports none of them.
 
 use super::colour::{anisotropy_colours, cell_means, cell_means_and_widths, to_srgb, Linear};
 use super::raster::Raster;
@@ -84,71 +85,128 @@ impl<'a> Scene<'a> {
         F: Fn(DVec2, &Owner) -> Linear + Sync,
     {
         let r = self.raster;
-        let ss = r.supersample;
+        let mut out = vec![0u8; 3 * r.width * r.height];
         let centres = Raster {
             supersample: 1,
             ..r
         };
-        let step = r.step();
-        let centre_step = centres.step();
-        let weight = 1.0 / (ss * ss) as f32;
-        let mut out = vec![0u8; 3 * r.width * r.height];
-        let ppu = self.pixels_per_unit;
         self.cells
             .shade_rows(&centres, &mut out, 3 * r.width, |y, owners, row| {
                 for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
-                    if o.site == NONE {
-                        continue;
-                    }
-                    // `centres.point(x, y)`, with the step divided out once.
-                    let centre = DVec2::new(
-                        (x as f64 + 0.5) * centre_step.x,
-                        (y as f64 + 0.5) * centre_step.y,
-                    );
-                    let mut o = *o;
-                    // The border: f = δ_j − δ_i ≥ 0 on the owner's side, linear to first order.
-                    let mut gradient = DVec2::ZERO;
-                    if self.cells.border_distance_at_least(&o) * ppu < BORDER_EXACT_PX {
-                        gradient = self.cells.border_gradient(centre, &o);
-                        let len = gradient.length();
-                        if len > 0.0 {
-                            o.border_px = (f64::from(o.delta2 - o.delta) / len * ppu) as f32;
-                        }
-                    }
-                    let c = if ss > 1 && f64::from(o.border_px) < BORDER_MARGIN_PX {
-                        let f0 = f64::from(o.delta2 - o.delta);
-                        let len = gradient.length();
-                        let mut sum = [0.0f32; 3];
-                        for j in 0..ss {
-                            for i in 0..ss {
-                                let q = DVec2::new(
-                                    (x * ss + i) as f64 + 0.5,
-                                    (y * ss + j) as f64 + 0.5,
-                                ) * step;
-                                let f = f0 + gradient.dot(q - centre);
-                                let mut oq = o;
-                                if f < 0.0 {
-                                    // Across the border: the runner-up owns this point.
-                                    std::mem::swap(&mut oq.site, &mut oq.second);
-                                    std::mem::swap(&mut oq.delta, &mut oq.delta2);
-                                }
-                                oq.border_px = (f.abs() / len * ppu) as f32;
-                                let c = colour(q, &oq);
-                                for k in 0..3 {
-                                    sum[k] += c[k];
-                                }
-                            }
-                        }
-                        sum.map(|v| v * weight)
-                    } else {
-                        colour(centre, &o)
-                    };
-                    for k in 0..3 {
-                        px[k] = to_srgb(c[k]);
-                    }
+                    self.shade_pixel(x, y, o, &colour, px);
                 }
             });
         RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
+    }
+
+    /// [`Self::shade`], with `inside(p, δ², owner)` shading the pixels whose owner the colour
+    /// term's cell map settles (a picture at the photo's own size): those are inside their cell,
+    /// with no border near, so `inside` must give what `colour` gives for an owner whose
+    /// [`Owner::border_px`] is infinite. It is handed the site's `δ²` at `p`, which `D` was made
+    /// from, and the owner the search would have found (but for its triangle, `NONE`), found
+    /// without the search ([`VoronoiCells::settled_owner`]).
+    #[must_use]
+    pub fn shade_settled<F, I>(&self, colour: F, inside: I) -> RgbImage
+    where
+        F: Fn(DVec2, &Owner) -> Linear + Sync,
+        I: Fn(DVec2, f64, &Owner) -> Linear + Sync,
+    {
+        let Some(term) = self.cells.colour() else {
+            return self.shade(colour);
+        };
+        let r = self.raster;
+        let mut out = vec![0u8; 3 * r.width * r.height];
+        let centres = Raster {
+            supersample: 1,
+            ..r
+        };
+        let step = centres.step();
+        self.cells.shade_rows_settled(
+            &centres,
+            &mut out,
+            3 * r.width,
+            |y, owners, settled, row| {
+                let py = (y as f64 + 0.5) * step.y;
+                for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
+                    match settled.get(x) {
+                        Some(&site) if site != NONE => {
+                            let p = DVec2::new((x as f64 + 0.5) * step.x, py);
+                            let (delta_squared, o) = self.cells.settled_owner(term, site, p, NONE);
+                            let c = inside(p, delta_squared, &o);
+                            for k in 0..3 {
+                                px[k] = to_srgb(c[k]);
+                            }
+                        }
+                        _ => self.shade_pixel(x, y, o, &colour, px),
+                    }
+                }
+            },
+        );
+        RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
+    }
+
+    /// One pixel (`x`, `y`) of [`Self::shade`] whose centre's owner is `o`, into `px`.
+    #[inline]
+    fn shade_pixel<F>(&self, x: usize, y: usize, o: &Owner, colour: &F, px: &mut [u8])
+    where
+        F: Fn(DVec2, &Owner) -> Linear,
+    {
+        if o.site == NONE {
+            return;
+        }
+        let r = self.raster;
+        let ss = r.supersample;
+        let step = r.step();
+        let centre_step = Raster {
+            supersample: 1,
+            ..r
+        }
+        .step();
+        let ppu = self.pixels_per_unit;
+        // `centres.point(x, y)`, with the step divided out once.
+        let centre = DVec2::new(
+            (x as f64 + 0.5) * centre_step.x,
+            (y as f64 + 0.5) * centre_step.y,
+        );
+        let mut o = *o;
+        // The border: f = δ_j − δ_i ≥ 0 on the owner's side, linear to first order.
+        let mut gradient = DVec2::ZERO;
+        if self.cells.border_distance_at_least(&o) * ppu < BORDER_EXACT_PX {
+            gradient = self.cells.border_gradient(centre, &o);
+            let len = gradient.length();
+            if len > 0.0 {
+                o.border_px = (f64::from(o.delta2 - o.delta) / len * ppu) as f32;
+            }
+        }
+        let c = if ss > 1 && f64::from(o.border_px) < BORDER_MARGIN_PX {
+            let f0 = f64::from(o.delta2 - o.delta);
+            let len = gradient.length();
+            let weight = 1.0 / (ss * ss) as f32;
+            let mut sum = [0.0f32; 3];
+            for j in 0..ss {
+                for i in 0..ss {
+                    let q = DVec2::new((x * ss + i) as f64 + 0.5, (y * ss + j) as f64 + 0.5) * step;
+                    let f = f0 + gradient.dot(q - centre);
+                    let mut oq = o;
+                    if f < 0.0 {
+                        // Across the border: the runner-up owns this point.
+                        std::mem::swap(&mut oq.site, &mut oq.second);
+                        std::mem::swap(&mut oq.delta, &mut oq.delta2);
+                    }
+                    oq.border_px = (f.abs() / len * ppu) as f32;
+                    let c = colour(q, &oq);
+                    for k in 0..3 {
+                        sum[k] += c[k];
+                    }
+                }
+            }
+            sum.map(|v| v * weight)
+        } else {
+            colour(centre, &o)
+        };
+        for k in 0..3 {
+            px[k] = to_srgb(c[k]);
+        }
     }
 }
 

@@ -19,6 +19,7 @@ use super::mosaic::border_coverage;
 use super::rounding::floor;
 use super::scene::Scene;
 use super::stipple::stipple_radius;
+use super::voronoi::Owner;
 use glam::DVec2;
 use image::{GrayImage, RgbImage};
 
@@ -266,7 +267,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     let periods: Vec<f64> = frames.iter().map(|f| spacing(f.b, params, px)).collect();
     // Bare paper, as `mix_encoded` gives it (whatever the ink) for no coverage.
     let bare = mix_encoded(paper, paper, 0.0);
-    scene.shade(|p, o| {
+    let colour = |p: DVec2, o: &Owner| {
         let site = o.site;
         let f = frames[site as usize];
         let d = p - scene.cells.positions()[site as usize];
@@ -308,7 +309,10 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             }
         }
         c
-    })
+    };
+    // Settled pixels have no border near (their owner's `border_px` is infinite): the same
+    // colour, without the owner search.
+    scene.shade_settled(colour, |p, _, o| colour(p, o))
 }
 
 /// `a + (b − a)·t` in the sRGB encoding: ink covering a share `t` of a pixel reads as that

@@ -229,19 +229,29 @@ impl<'a> VoronoiCells<'a> {
     pub fn owner_in_triangle(&self, t: usize, p: DVec2) -> Owner {
         if let Some(term) = self.colour {
             if let Some(site) = term.map.as_ref().and_then(|map| map.settled_owner(p)) {
-                let colour = term.colour_only_at(p);
-                let d1 = self.quads[site as usize].delta_squared(p) + term.cost(colour, site);
-                return Owner {
-                    site,
-                    second: NONE,
-                    delta: d1.sqrt() as f32,
-                    delta2: f32::INFINITY,
-                    triangle: t as u32,
-                    border_px: f32::INFINITY,
-                };
+                return self.settled_owner(term, site, p, t as u32).1;
             }
         }
         self.owner_searched(t, p)
+    }
+
+    /// The owner of `p`, a pixel centre the colour term's cell map settles to `site`, in
+    /// triangle `t`: `D` alone, no runner-up and no border (what [`Self::owner_in_triangle`]
+    /// gives there), with `site`'s `δ²` at `p`, which `D` is made from.
+    #[inline]
+    #[must_use]
+    pub fn settled_owner(&self, term: &ColourTerm, site: u32, p: DVec2, t: u32) -> (f64, Owner) {
+        let delta_squared = self.quads[site as usize].delta_squared(p);
+        let d1 = delta_squared + term.cost(term.colour_only_at(p), site);
+        let owner = Owner {
+            site,
+            second: NONE,
+            delta: d1.sqrt() as f32,
+            delta2: f32::INFINITY,
+            triangle: t,
+            border_px: f32::INFINITY,
+        };
+        (delta_squared, owner)
     }
 
     /// The owner of `p` among the candidates of triangle `t`, every candidate searched.
