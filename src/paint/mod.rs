@@ -129,9 +129,16 @@ pub fn paint_loaded(
     extras: Extras,
     observer: &dyn Observer,
 ) -> Result<Painting> {
-    let samples = sample(&loaded.metric, &recipe.sampler, observer)?;
+    // What the cells read of the photo (its blur) does not depend on the samples: it is made
+    // while the sampler runs, on the cores the sampler's sequential steps leave idle.
+    let (samples, photo_read) = rayon::join(
+        || sample(&loaded.metric, &recipe.sampler, observer),
+        || CellSites::photo_read(loaded.photo.as_ref(), &cell_params(recipe)),
+    );
     let size = field_size(&loaded.metric, recipe.supersample);
-    draw(loaded, &samples, recipe, size, extras, observer)
+    draw_reading(loaded, &samples?, recipe, size, extras, observer, || {
+        photo_read
+    })
 }
 
 /// The samples of `field`.
@@ -169,8 +176,24 @@ pub fn draw(
     extras: Extras,
     observer: &dyn Observer,
 ) -> Result<Painting> {
+    draw_reading(loaded, samples, recipe, size, extras, observer, || {
+        CellSites::photo_read(loaded.photo.as_ref(), &cell_params(recipe))
+    })
+}
+
+/// [`draw`], `photo_read` giving what the cells read of the photo
+/// ([`CellSites::photo_read`] of [`cell_params`]), perhaps made already.
+fn draw_reading(
+    loaded: &LoadedField,
+    samples: &Samples,
+    recipe: &Recipe,
+    size: RenderSize,
+    extras: Extras,
+    observer: &dyn Observer,
+    photo_read: impl FnOnce() -> Option<RgbImage>,
+) -> Result<Painting> {
     timed(observer, Stage::Rendering, || {
-        let sites = cell_sites(loaded, samples, recipe);
+        let sites = cell_sites(loaded, samples, recipe, photo_read());
         let labels = extras.labels.then(|| {
             let raster = Raster {
                 width: size.width,
@@ -226,22 +249,28 @@ fn add_svg_outlines(
 /// The cells `recipe` asks for. Fabric and LIC lay their threads from the samples as the
 /// sampler packed them, and the engraving's lines cross cells (it seeds from the samples), so
 /// they always take the paper's cells.
-fn cell_sites(loaded: &LoadedField, samples: &Samples, recipe: &Recipe) -> CellSites {
-    let (positions, metrics, mesh) = (
-        samples.positions.clone(),
-        samples.metrics.clone(),
-        samples.mesh.clone(),
-    );
+fn cell_params(recipe: &Recipe) -> CellParams {
     let mut params = recipe.cells.clone();
     if matches!(recipe.look, Look::Fabric(_) | Look::Engraving(_)) {
         params.kind = CellKind::Voronoi;
     }
-    CellSites::new(
-        positions,
-        metrics,
-        mesh,
+    params
+}
+
+/// The cells of `samples` that [`cell_params`] asks for, `photo_read` what they read of the
+/// photo ([`CellSites::photo_read`]).
+fn cell_sites(
+    loaded: &LoadedField,
+    samples: &Samples,
+    recipe: &Recipe,
+    photo_read: Option<RgbImage>,
+) -> CellSites {
+    CellSites::with_photo_read(
+        samples.positions.clone(),
+        samples.metrics.clone(),
+        samples.mesh.clone(),
         &loaded.metric,
-        loaded.photo.as_ref(),
-        &params,
+        photo_read,
+        &cell_params(recipe),
     )
 }

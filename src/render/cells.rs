@@ -23,7 +23,7 @@ use crate::field::blur::gaussian_blur_u8_parallel;
 use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
-use image::DynamicImage;
+use image::{DynamicImage, RgbImage};
 use rayon::prelude::*;
 
 /// Which cells the looks paint.
@@ -125,12 +125,37 @@ impl CellSites {
         photo: Option<&DynamicImage>,
         params: &CellParams,
     ) -> CellSites {
-        let mut sites = CellSites::voronoi(positions, metrics, mesh);
+        let blurred = Self::photo_read(photo, params);
+        Self::with_photo_read(positions, metrics, mesh, field, blurred, params)
+    }
+
+    /// What the cells `params` asks for read of `photo`: for edge-following cells the photo
+    /// blurred by [`CellParams::blur_px`], `None` for the paper's cells. It does not depend on
+    /// the samples, so a pipeline can make it while the sampler runs.
+    #[must_use]
+    pub fn photo_read(photo: Option<&DynamicImage>, params: &CellParams) -> Option<RgbImage> {
         match photo {
             Some(photo) if params.kind == CellKind::Edges && params.colour_weight > 0.0 => {
-                sites.follow_edges(field, photo, params);
+                Some(blurred(photo, params.blur_px))
             }
-            _ => {}
+            _ => None,
+        }
+    }
+
+    /// [`Self::new`] with what the cells read of the photo already made
+    /// ([`Self::photo_read`] of the same `params`).
+    #[must_use]
+    pub fn with_photo_read(
+        positions: Vec<DVec2>,
+        metrics: Vec<Tensor>,
+        mesh: AnisotropicDelaunay,
+        field: &TensorField,
+        blurred: Option<RgbImage>,
+        params: &CellParams,
+    ) -> CellSites {
+        let mut sites = CellSites::voronoi(positions, metrics, mesh);
+        if let Some(blurred) = blurred {
+            sites.follow_edges(field, blurred, params);
         }
         sites
     }
@@ -147,8 +172,8 @@ impl CellSites {
 
     /// The anisotropic SLIC rounds: assign, then move sites and colours to their cells'
     /// centroids and means; a last assignment sets the colours the final cells use.
-    fn follow_edges(&mut self, field: &TensorField, photo: &DynamicImage, params: &CellParams) {
-        let mut term = ColourTerm::new(blurred(photo, params.blur_px), 0.0);
+    fn follow_edges(&mut self, field: &TensorField, blurred: RgbImage, params: &CellParams) {
+        let mut term = ColourTerm::new(blurred, 0.0);
         term.reach = params.reach;
         let domain = field.domain();
         // The rounds move sites, not pixels: the pixels' sums per block are made once, in
@@ -248,7 +273,7 @@ impl CellSites {
 
 /// `photo` as sRGB bytes, blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0), all
 /// channels at once in bands of rows ([`gaussian_blur_u8_parallel`]).
-fn blurred(photo: &DynamicImage, sigma: f32) -> image::RgbImage {
+fn blurred(photo: &DynamicImage, sigma: f32) -> RgbImage {
     let rgb = super::colour::rgb8(photo);
     let (w, h) = (rgb.width(), rgb.height());
     let data = gaussian_blur_u8_parallel(rgb.as_raw(), w as usize, h as usize, 3, sigma);
