@@ -1,8 +1,8 @@
 //! Where outputs go, through the real binary: `-` is standard output (and, as the input,
-//! standard input); a named pipe is written in place and stays a pipe, and a reader that
-//! hangs up is an error (exit 2, "Broken pipe"); a symbolic link stays a link and its target
-//! gets the picture; a missing folder is reported with the user's path, never the temporary
-//! file's. Devices are not touched here (`/dev/full` was checked by hand, see the README):
+//! standard input); a named pipe, and `/dev/stdout` on a pipe, are written in place (the pipe
+//! stays a pipe), and a reader that hangs up is an error (exit 2, "Broken pipe"); a symbolic
+//! link stays a link and its target gets the picture; a missing folder is reported with the
+//! user's path, never the temporary file's. Devices are not touched here (`/dev/full` was checked by hand, see the README):
 //! a regression would replace the machine's device node.
 
 use assert_cmd::Command;
@@ -81,6 +81,39 @@ fn dash_is_standard_output_and_standard_input() {
         .code(2)
         .stdout(predicates::str::is_empty())
         .stderr(predicates::str::contains("standard input"));
+}
+
+#[cfg(unix)]
+#[test]
+fn dev_stdout_on_a_pipe_is_written_in_place() {
+    // `/dev/stdout` links to `/proc/self/fd/1`, which for a pipe (as here: the test reads the
+    // command's output through one) names no file: the pipe gets the picture, or the samples.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("file.png");
+    paint_to(&file).success();
+    let run = paint_to(Path::new("/dev/stdout")).success();
+    assert!(pixels(&run.get_output().stdout) == pixels(&std::fs::read(&file).unwrap()));
+    let samples = |out: &str| {
+        bin()
+            .args([
+                "sample",
+                "analytic:constant",
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "-q",
+            ])
+            .args(["--out", out])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone()
+    };
+    let piped = samples("/dev/stdout");
+    assert!(piped.starts_with(b"x,y,m11,m12,m22\n"), "the samples' CSV");
+    assert_eq!(piped, samples("-"));
 }
 
 #[cfg(unix)]

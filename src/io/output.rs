@@ -2,8 +2,9 @@
 //!
 //! - `-` is standard output;
 //! - a path that exists and is not a regular file or a folder (a device such as `/dev/null`,
-//!   a named pipe) is opened and written in place, never replaced: whatever reads the pipe
-//!   gets the picture, and a write error there (no space, broken pipe) is an error;
+//!   a named pipe, `/dev/stdout` on a pipe) is opened and written in place, never replaced:
+//!   whatever reads the pipe gets the picture, and a write error there (no space, broken
+//!   pipe) is an error;
 //! - a symbolic link keeps being a link: the file it points to (through any chain of links)
 //!   is the one replaced;
 //! - everything else is written to a temporary file beside its final name, then renamed into
@@ -44,6 +45,14 @@ const MAX_LINKS: usize = 40;
 fn destination(path: &Path) -> std::io::Result<Destination> {
     if is_stdout(path) {
         return Ok(Destination::Stdout);
+    }
+    // What opening `path` reaches, as the system resolves it: a device, a pipe or a socket is
+    // written in place. Asked of the path itself first: `/dev/stdout` links to
+    // `/proc/self/fd/1`, whose link text for a pipe is no path (`pipe:[…]`).
+    if let Ok(m) = std::fs::metadata(path) {
+        if !m.is_file() && !m.is_dir() {
+            return Ok(Destination::InPlace(path.to_path_buf()));
+        }
     }
     let target = link_target(path)?;
     Ok(match std::fs::metadata(&target) {
