@@ -74,7 +74,7 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
     } else {
         None
     };
-    let photo = scene.photo.map(image::DynamicImage::to_rgb8);
+    let photo = scene.photo.map(super::colour::rgb8);
     let mut out = vec![0u8; 3 * w * h];
     out.par_chunks_mut(3 * w).enumerate().for_each(|(y, row)| {
         for (x, px) in row.chunks_exact_mut(3).enumerate() {
@@ -88,7 +88,7 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
                 None => a,
             };
             let p = (DVec2::new(x as f64, y as f64) + 0.5) * to_domain;
-            let base = base_colour(scene, photo.as_ref(), p);
+            let base = base_colour(scene, photo.as_deref(), p);
             let c = if photo.is_some() {
                 let k = 1.0 - 0.5 * params.contrast + params.contrast * v;
                 base.map(|c| (c * k).clamp(0.0, 1.0))

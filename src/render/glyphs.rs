@@ -464,7 +464,7 @@ fn placed_unordered(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, 
                 .collect()
         }
     };
-    let photo = scene.photo.map(image::DynamicImage::to_rgb8);
+    let photo = scene.photo.map(super::colour::rgb8);
     positions
         .into_iter()
         .map(|p| {
