@@ -120,8 +120,9 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
         }
         underpainting = Some(cells);
     } else if params.ground > 0.0 && tone_kept(scene, params) {
-        // One owner per pixel, not supersampled: the wash shows only between the glyphs. The
-        // owners are handed row by row straight into the canvas (no owner map of the picture).
+        // One owning site per pixel, not supersampled: the wash shows only between the glyphs.
+        // The sites (no runner-up or distance) are handed row by row straight into the canvas
+        // (no owner map of the picture).
         let washes: Vec<[u8; 3]> = scene
             .colours
             .iter()
@@ -132,13 +133,13 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
             supersample: 1,
             ..r
         };
-        scene.cells.shade_rows(
+        scene.cells.site_rows(
             &centres,
             pixmap.pixels_mut(),
             w as usize,
-            |_, owners, row| {
-                for (px, o) in row.iter_mut().zip(owners) {
-                    let [cr, cg, cb] = washes.get(o.site as usize).copied().unwrap_or(bg);
+            |_, sites, row| {
+                for (px, &site) in row.iter_mut().zip(sites) {
+                    let [cr, cg, cb] = washes.get(site as usize).copied().unwrap_or(bg);
                     *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();
                 }
             },
