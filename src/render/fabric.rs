@@ -200,8 +200,8 @@ const ANGLE_STEPS: usize = 256;
 /// the tensor field at every step (a streamline step is then a table look-up; the field is
 /// smooth at the scale of the ellipses, many pixels).
 struct Directions {
+    /// Quantised angles, one per pixel, row-major.
     angle: Vec<u8>,
-    w: usize,
     table: Vec<DVec2>,
 }
 
@@ -233,12 +233,13 @@ impl Directions {
         let table = (0..ANGLE_STEPS)
             .map(|k| DVec2::from_angle(k as f64 * step))
             .collect();
-        Directions { angle, w, table }
+        Directions { angle, table }
     }
 
-    /// Unit direction of `axis` at the pixel holding `p` (which must be inside), up to sign.
-    fn at(&self, p: DVec2, axis: Axis) -> DVec2 {
-        let d = self.table[usize::from(self.angle[p.y as usize * self.w + p.x as usize])];
+    /// Unit direction of `axis` at pixel `i` (row-major), up to sign.
+    #[inline]
+    fn at_pixel(&self, i: usize, axis: Axis) -> DVec2 {
+        let d = self.table[usize::from(self.angle[i])];
         if axis == Axis::Long {
             d
         } else {
@@ -393,48 +394,71 @@ impl Tracer<'_> {
         p.x >= 0.0 && p.y >= 0.0 && p.x < self.w as f64 && p.y < self.h as f64
     }
 
-    fn value(&self, p: DVec2) -> f32 {
-        f32::from(self.noise[p.y as usize * self.w + p.x as usize]) / 127.0
+    /// The noise at pixel `i` (row-major).
+    #[inline]
+    fn value(&self, i: usize) -> f32 {
+        f32::from(self.noise[i]) / 127.0
     }
 
     /// Traces the streamline through pixel (`x`, `y`) both ways, `reach` unit steps each
     /// (eigenvectors have no sign, so each step keeps the direction of the previous one), into
-    /// `line` as (position, noise) in order. `scratch` holds the
-    /// backward half meanwhile.
+    /// `line` as the pixels it steps on, with their noise, in order. `scratch` holds the
+    /// backward half meanwhile. Each point's pixel is found once: the direction of the next
+    /// step and the noise are read there, and the deposit adds there.
     fn trace(
         &self,
         x: usize,
         y: usize,
         reach: usize,
-        line: &mut Vec<(DVec2, f32)>,
-        scratch: &mut Vec<(DVec2, f32)>,
+        line: &mut Vec<LinePoint>,
+        scratch: &mut Vec<LinePoint>,
     ) {
         let start = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-        let d0 = self.directions.at(start, self.axis);
+        let start_pixel = y * self.w + x;
+        let d0 = self.directions.at_pixel(start_pixel, self.axis);
         line.clear();
         scratch.clear();
         for (sign, out) in [(-1.0, &mut *scratch), (1.0, &mut *line)] {
             let mut p = start;
+            let mut pixel = start_pixel;
             let mut prev = d0 * sign;
             for _ in 0..reach {
                 // Unit Euler steps: the field is smooth at the scale of a pixel (it is smoothed
                 // at the scale of the ellipses).
-                let d = aligned(self.directions.at(p, self.axis), prev);
+                let d = aligned(self.directions.at_pixel(pixel, self.axis), prev);
                 let next = p + d;
                 if !self.inside(next) || d == DVec2::ZERO {
                     break;
                 }
                 p = next;
                 prev = d;
-                out.push((p, self.value(p)));
+                let (px, py) = (p.x as usize, p.y as usize);
+                pixel = py * self.w + px;
+                out.push(LinePoint {
+                    x: px as u32,
+                    y: py as u32,
+                    value: self.value(pixel),
+                });
             }
         }
         // scratch: backward half from the seed outwards; line: forward half.
         scratch.reverse();
-        scratch.push((start, self.value(start)));
+        scratch.push(LinePoint {
+            x: x as u32,
+            y: y as u32,
+            value: self.value(start_pixel),
+        });
         scratch.append(line);
         std::mem::swap(line, scratch);
     }
+}
+
+/// A streamline's point: the pixel it is in and the noise there.
+#[derive(Clone, Copy)]
+struct LinePoint {
+    x: u32,
+    y: u32,
+    value: f32,
 }
 
 /// `d` or `−d`, whichever points along `prev`.
@@ -449,7 +473,7 @@ fn aligned(d: DVec2, prev: DVec2) -> DVec2 {
 /// Slides a box filter of half-length `kernel` along `line` and adds each window's mean to
 /// the pixel at the window's centre, if it lies in rows `top..bottom`.
 fn deposit(
-    line: &[(DVec2, f32)],
+    line: &[LinePoint],
     kernel: usize,
     w: usize,
     top: usize,
@@ -465,15 +489,14 @@ fn deposit(
         let want_lo = k.saturating_sub(kernel);
         let want_hi = (k + kernel + 1).min(n);
         while hi < want_hi {
-            window += line[hi].1;
+            window += line[hi].value;
             hi += 1;
         }
         while lo < want_lo {
-            window -= line[lo].1;
+            window -= line[lo].value;
             lo += 1;
         }
-        let p = line[k].0;
-        let (px, py) = (p.x as usize, p.y as usize);
+        let (px, py) = (line[k].x as usize, line[k].y as usize);
         if py < top || py >= bottom || px >= w {
             continue;
         }
