@@ -18,6 +18,7 @@ use super::colour::{bilinear, lightness, linear_of};
 use super::scene::Scene;
 use super::streamlines::{streamlines, Directions, LineLayout, Streamline};
 use super::texture::BLACK_INK;
+use crate::field::blur::round_to_byte;
 use glam::DVec2;
 use image::RgbImage;
 use rayon::prelude::*;
@@ -188,9 +189,7 @@ pub fn engraving(scene: &Scene, params: &EngravingParams) -> RgbImage {
         .for_each(|(row, cov)| {
             for (px, &c) in row.chunks_exact_mut(3).zip(cov) {
                 for k in 0..3 {
-                    px[k] = (paper[k] + (ink[k] - paper[k]) * c)
-                        .round()
-                        .clamp(0.0, 255.0) as u8;
+                    px[k] = round_to_byte(paper[k] + (ink[k] - paper[k]) * c);
                 }
             }
         });

@@ -18,6 +18,7 @@
 //! Values are `f32`; the noise and the first pass are kept as bytes to hold memory down.
 
 use super::colour::{anisotropy_colour, linear_of, salt, Linear};
+use super::rounding::round;
 use super::scene::Scene;
 use crate::field::TensorField;
 use glam::DVec2;
@@ -362,7 +363,7 @@ fn lic(scene: &Scene, params: &FabricParams, axis: Axis, directions: &Directions
         .par_iter()
         .map(|&v| {
             let z = ((f64::from(v) - mean) / spread).clamp(-1.0, 1.0);
-            (128.0 + 127.0 * z).round() as u8
+            round(128.0 + 127.0 * z) as u8
         })
         .collect()
 }

@@ -11,6 +11,7 @@
 use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
 use super::raster::Raster;
 use super::scene::Scene;
+use crate::field::blur::round_to_byte;
 use crate::field::Tensor;
 use crate::sampling::rng::Rng;
 use glam::DVec2;
@@ -319,7 +320,7 @@ fn stop_at_edges(painted: &mut [u8], under: &[u8]) {
             if t > 0.0 {
                 for k in 0..3 {
                     let v = f32::from(p[k]) + (f32::from(u[k]) - f32::from(p[k])) * t;
-                    p[k] = v.round() as u8;
+                    p[k] = round_to_byte(v);
                 }
             }
         });
@@ -389,7 +390,7 @@ pub(super) fn ground_colour(params: &GlyphParams, c: Linear) -> Linear {
 fn encoded_mix(a: f32, b: f32, t: f32) -> f32 {
     let enc = |v: f32| f32::from(to_srgb(v));
     let e = enc(a) + (enc(b) - enc(a)) * t;
-    super::colour::to_linear(e.round().clamp(0.0, 255.0) as u8)
+    super::colour::to_linear(round_to_byte(e))
 }
 
 /// Glyph centres, metrics and colours for the placement, in drawing order: brush strokes
@@ -414,7 +415,7 @@ pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor,
             let enc = |v: f32| f32::from(to_srgb(v));
             *c = std::array::from_fn(|k| {
                 let e = (enc(c[k]) - (1.0 - kappa) * enc(g[k])) / kappa;
-                super::colour::to_linear(e.round().clamp(0.0, 255.0) as u8)
+                super::colour::to_linear(round_to_byte(e))
             });
         }
     }

@@ -1,6 +1,7 @@
-//! `floor` and `ceil` without calls into libm: the baseline x86-64 target has no rounding
-//! instruction, and per-pixel code (texture lattices, stipple cells, triangle spans) rounds
-//! several times a pixel. Exact for every `|x| < 2⁶³`, which is all a picture's coordinates.
+//! `floor`, `ceil` and `round` without calls into libm: the baseline x86-64 target has no
+//! rounding instruction, and per-pixel code (texture lattices, stipple cells, triangle spans,
+//! the LIC's bytes) rounds several times a pixel. Exact for every `|x| < 2⁵²`, which is all a
+//! picture's coordinates and values.
 
 /// `x.floor()`, exact for `|x| < 2⁶³`.
 #[inline]
@@ -19,6 +20,22 @@ pub fn floor(x: f64) -> f64 {
 #[must_use]
 pub fn ceil(x: f64) -> f64 {
     -floor(-x)
+}
+
+/// `x.round()` (halves away from zero) up to the sign of a zero result, exact for
+/// `|x| < 2⁵²` (where `x` minus its integer part is exact).
+#[inline]
+#[must_use]
+pub fn round(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    let frac = x - t;
+    if frac >= 0.5 {
+        t + 1.0
+    } else if frac <= -0.5 {
+        t - 1.0
+    } else {
+        t
+    }
 }
 
 #[cfg(test)]
@@ -41,6 +58,24 @@ mod tests {
         ] {
             assert_eq!(floor(x), f64::floor(x), "{x}");
             assert_eq!(ceil(x), f64::ceil(x), "{x}");
+        }
+    }
+
+    #[test]
+    fn round_is_the_round() {
+        let mut values = vec![
+            0.5 - f64::EPSILON / 4.0,
+            1e15 + 0.5,
+            -1e15 - 0.5,
+            4.5e15 + 0.5,
+        ];
+        for i in -2600..=2600 {
+            let x = f64::from(i) / 10.0;
+            values.extend([x, x.next_up(), x.next_down(), x + 0.05]);
+        }
+        for x in values {
+            // Equal as numbers: -0.0 == 0.0.
+            assert_eq!(round(x), f64::round(x), "{x}");
         }
     }
 }
