@@ -90,10 +90,11 @@ impl<'a> Scene<'a> {
             supersample: 1,
             ..r
         };
+        let steps = (r.step(), centres.step());
         self.cells
             .shade_rows(&centres, &mut out, 3 * r.width, |y, owners, row| {
                 for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
-                    self.shade_pixel(x, y, o, &colour, px);
+                    self.shade_pixel((x, y), o, &colour, steps, px);
                 }
             });
         RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
@@ -121,6 +122,7 @@ impl<'a> Scene<'a> {
             ..r
         };
         let step = centres.step();
+        let steps = (r.step(), step);
         self.cells.shade_rows_settled(
             &centres,
             &mut out,
@@ -137,7 +139,7 @@ impl<'a> Scene<'a> {
                                 px[k] = to_srgb(c[k]);
                             }
                         }
-                        _ => self.shade_pixel(x, y, o, &colour, px),
+                        _ => self.shade_pixel((x, y), o, &colour, steps, px),
                     }
                 }
             },
@@ -145,23 +147,24 @@ impl<'a> Scene<'a> {
         RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
     }
 
-    /// One pixel (`x`, `y`) of [`Self::shade`] whose centre's owner is `o`, into `px`.
+    /// One pixel (`x`, `y`) of [`Self::shade`] whose centre's owner is `o`, into `px`; `steps`
+    /// are the raster's points' and the pixel centres' steps.
     #[inline]
-    fn shade_pixel<F>(&self, x: usize, y: usize, o: &Owner, colour: &F, px: &mut [u8])
-    where
+    fn shade_pixel<F>(
+        &self,
+        (x, y): (usize, usize),
+        o: &Owner,
+        colour: &F,
+        steps: (DVec2, DVec2),
+        px: &mut [u8],
+    ) where
         F: Fn(DVec2, &Owner) -> Linear,
     {
         if o.site == NONE {
             return;
         }
-        let r = self.raster;
-        let ss = r.supersample;
-        let step = r.step();
-        let centre_step = Raster {
-            supersample: 1,
-            ..r
-        }
-        .step();
+        let (step, centre_step) = steps;
+        let ss = self.raster.supersample;
         let ppu = self.pixels_per_unit;
         // `centres.point(x, y)`, with the step divided out once.
         let centre = DVec2::new(
