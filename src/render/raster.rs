@@ -73,18 +73,9 @@ impl VoronoiCells<'_> {
         P: Send,
         F: Fn(usize, &[Owner], &mut [P]) + Sync,
     {
-        self.rows_of(
-            raster,
-            out,
-            row_len,
-            Owner::NOBODY,
-            |t, p| match t {
-                Some(t) => self.owner_in_triangle(t, p),
-                None => self.owner_brute_force(p),
-            },
-            None,
-            |y, owners, _, row| shade(y, owners, row),
-        );
+        self.owner_rows(raster, out, row_len, None, |y, owners, _, row| {
+            shade(y, owners, row);
+        });
     }
 
     /// [`Self::shade_rows`] without the owner search where the colour term's cell map settles
@@ -108,6 +99,22 @@ impl VoronoiCells<'_> {
             .filter(|map| {
                 map.size() == (centres.width, centres.height) && centres.step() == DVec2::ONE
             });
+        self.owner_rows(raster, out, row_len, map, shade);
+    }
+
+    /// The owner search of [`Self::shade_rows`] and [`Self::shade_rows_settled`] through
+    /// [`Self::rows_of`], leaving out the pixels `settle` settles.
+    fn owner_rows<P, F>(
+        &self,
+        raster: &Raster,
+        out: &mut [P],
+        row_len: usize,
+        settle: Option<&CellMap>,
+        shade: F,
+    ) where
+        P: Send,
+        F: Fn(usize, &[Owner], &[u32], &mut [P]) + Sync,
+    {
         self.rows_of(
             raster,
             out,
@@ -117,7 +124,7 @@ impl VoronoiCells<'_> {
                 Some(t) => self.owner_in_triangle(t, p),
                 None => self.owner_brute_force(p),
             },
-            map,
+            settle,
             shade,
         );
     }
