@@ -3,9 +3,14 @@
 //! smears the dots into threads, and the two are blended into a weave. Thread thickness follows
 //! the ellipse: threads along the long axis are as thick as a fraction of the short semi-axis
 //! and the other way round (for photos: thin threads along edges, thicker across). With white
-//! noise and one direction it is the classic tensor LIC, for comparison. Without a photo the
-//! threads span the colour map from dark to light and the kernel reaches at least the
-//! samples' long axes, so the fibres of a tensor field read clearly (paper Figure 7).
+//! noise and one direction it is the classic tensor LIC, for comparison. The kernel reaches at
+//! least the samples' long axes, so dots join into fibres (paper Figure 7); without a photo the
+//! threads span the colour map from dark to light.
+//!
+//! The LIC runs on the output's pixels up to a one-megapixel photo's diagonal and on a grid of
+//! that size beyond (`LicGrid`, read bilinearly): the look's lengths are in that grid's
+//! pixels, so a 12 MP painting shows the weave a 1 MP one shows, not specks, and the LIC costs
+//! the same at any larger size.
 //!
 //! The LIC is the fast kind (Stalling and Hege): a long streamline is traced once from every
 //! pixel that no earlier streamline has crossed, and a box filter slides along it, giving
@@ -40,7 +45,9 @@ pub enum Noise {
 pub struct FabricParams {
     /// The noise.
     pub noise: Noise,
-    /// Half-length of the convolution kernel in output pixels.
+    /// Shortest half-length of the convolution kernel, in pixels of the LIC's grid (the
+    /// output's own up to a one-megapixel photo's size, `LIC_MAX_DIAGONAL`); the kernel
+    /// reaches at least 1.2 median long semi-axes of the samples (see `kernel_px`).
     pub kernel_px: f32,
     /// Weight of the LIC along the short axes (the cross threads), 0 to 1.
     pub cross_weight: f32,
@@ -68,22 +75,23 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
     let r = scene.raster;
     let (w, h) = (r.width, r.height);
     let to_domain = DVec2::new(r.domain.x / w as f64, r.domain.y / h as f64);
-    let directions = Directions::new(scene.field, w, h, to_domain);
-    let along = lic(scene, params, Axis::Long, &directions);
+    let grid = LicGrid::for_output(w, h, r.domain);
+    let directions = Directions::new(scene.field, &grid);
+    let along = lic(scene, params, Axis::Long, &directions, &grid);
     let across = if params.cross_weight > 0.0 {
-        Some(lic(scene, params, Axis::Short, &directions))
+        Some(lic(scene, params, Axis::Short, &directions, &grid))
     } else {
         None
     };
     let photo = scene.photo.map(super::colour::rgb8);
     let mut out = vec![0u8; 3 * w * h];
     out.par_chunks_mut(3 * w).enumerate().for_each(|(y, row)| {
+        let rows = grid.rows_for(y, h);
         for (x, px) in row.chunks_exact_mut(3).enumerate() {
-            let i = y * w + x;
-            let a = f32::from(along[i]) / 255.0;
+            let a = grid.read(&along, x, w, rows);
             let v = match &across {
                 Some(c) => {
-                    let b = f32::from(c[i]) / 255.0;
+                    let b = grid.read(c, x, w, rows);
                     a * (1.0 - params.cross_weight) + b * params.cross_weight
                 }
                 None => a,
@@ -107,6 +115,81 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
         }
     });
     RgbImage::from_raw(w as u32, h as u32, out).expect("w·h RGB pixels")
+}
+
+/// The grid the LIC runs on: the output's own pixels up to [`LIC_MAX_DIAGONAL`], a coarser grid
+/// of the same aspect beyond it, whose values the output reads bilinearly. Every length of the
+/// look (the kernel, the threads' thickness, the grain of white noise) is in this grid's
+/// pixels, so a painting larger than that shows the same texture, only finer, instead of
+/// threads that shrink to specks as the pixel count grows (a 12 MP fabric read as a blurred
+/// photo with a cross at every sample), and the LIC's cost stops growing with the output.
+struct LicGrid {
+    /// Width and height in grid pixels.
+    w: usize,
+    h: usize,
+    /// Domain units per grid pixel along x and y.
+    to_domain: DVec2,
+    /// The domain's size.
+    domain: DVec2,
+}
+
+/// Largest diagonal, in pixels, of the grid the LIC runs on: a one-megapixel photo's. The looks'
+/// lengths were chosen on photos of this size and under.
+const LIC_MAX_DIAGONAL: f64 = 1500.0;
+
+impl LicGrid {
+    fn for_output(w: usize, h: usize, domain: DVec2) -> Self {
+        let diagonal = ((w * w + h * h) as f64).sqrt();
+        let (gw, gh) = if diagonal > LIC_MAX_DIAGONAL {
+            let f = diagonal / LIC_MAX_DIAGONAL;
+            let shrunk = |n: usize| ((n as f64 / f).round() as usize).max(1);
+            (shrunk(w), shrunk(h))
+        } else {
+            (w, h)
+        };
+        LicGrid {
+            w: gw,
+            h: gh,
+            to_domain: DVec2::new(domain.x / gw as f64, domain.y / gh as f64),
+            domain,
+        }
+    }
+
+    /// Grid pixels per domain unit (the geometric mean of the two axes').
+    fn pixels_per_unit(&self) -> f64 {
+        ((self.w as f64 / self.domain.x) * (self.h as f64 / self.domain.y)).sqrt()
+    }
+
+    /// The two grid rows output row `y` reads and the weight of the lower one.
+    fn rows_for(&self, y: usize, h: usize) -> (usize, usize, f32) {
+        if self.h == h {
+            return (y, y, 0.0);
+        }
+        axis_pair((y as f64 + 0.5) * self.h as f64 / h as f64 - 0.5, self.h)
+    }
+
+    /// The value (0 to 1) of grid image `img` at output pixel `x` of a row `w` wide, between
+    /// grid `rows` (from [`Self::rows_for`]).
+    #[inline]
+    fn read(&self, img: &[u8], x: usize, w: usize, (r0, r1, ty): (usize, usize, f32)) -> f32 {
+        let byte = |i: usize| f32::from(img[i]) / 255.0;
+        if self.w == w && ty == 0.0 {
+            return byte(r0 * w + x);
+        }
+        let (c0, c1, tx) = axis_pair((x as f64 + 0.5) * self.w as f64 / w as f64 - 0.5, self.w);
+        let upper = byte(r0 * self.w + c0) * (1.0 - tx) + byte(r0 * self.w + c1) * tx;
+        let lower = byte(r1 * self.w + c0) * (1.0 - tx) + byte(r1 * self.w + c1) * tx;
+        upper * (1.0 - ty) + lower * ty
+    }
+}
+
+/// The two grid nodes around coordinate `t` (in nodes, clamped to `0..n`) and the weight of
+/// the second.
+fn axis_pair(t: f64, n: usize) -> (usize, usize, f32) {
+    let t = t.clamp(0.0, (n - 1) as f64);
+    let i0 = t as usize;
+    let i1 = (i0 + 1).min(n - 1);
+    (i0, i1, (t - i0 as f64) as f32)
 }
 
 /// How far the threads of a field (no photo) reach from its colour map towards black and
@@ -207,9 +290,10 @@ struct Directions {
 }
 
 impl Directions {
-    fn new(field: &TensorField, w: usize, h: usize, to_domain: DVec2) -> Self {
+    fn new(field: &TensorField, grid: &LicGrid) -> Self {
+        let (w, to_domain) = (grid.w, grid.to_domain);
         let step = std::f64::consts::PI / ANGLE_STEPS as f64;
-        let mut angle = vec![0u8; w * h];
+        let mut angle = vec![0u8; w * grid.h];
         // Output pixels are square in the domain (the usual case): directions need no rescaling.
         let square = to_domain.x == to_domain.y;
         angle.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
@@ -249,15 +333,13 @@ impl Directions {
     }
 }
 
-/// The kernel's half-length in output pixels. A photo takes `kernel_px` as it is (longer
-/// kernels smear its detail). A field without a photo has no detail to keep but its
-/// directions: its kernel reaches at least the median long semi-axis of the samples, the
-/// distance between neighbouring dots along a thread, so the dots join into continuous fibres
-/// (paper Figure 7) instead of stitches.
-fn kernel_px(scene: &Scene, params: &FabricParams) -> f32 {
-    if scene.photo.is_some() {
-        return params.kernel_px;
-    }
+/// The kernel's half-length in pixels of the LIC's `grid`: `kernel_px`, or more, so that it
+/// reaches [`FIELD_KERNEL_AXES`] median long semi-axes of the samples, the distance between
+/// neighbouring dots along a thread; the dots then join into continuous fibres (paper Figure
+/// 7) instead of stitches, at any size. Photos at 512 px read 7–11 px here, so `kernel_px`
+/// rules them; a one-megapixel photo's ellipses are twice as long, and with a fixed kernel its
+/// threads broke into blobs.
+fn kernel_px(scene: &Scene, params: &FabricParams, grid: &LicGrid) -> f32 {
     let mut long: Vec<f64> = scene
         .cells
         .metrics()
@@ -271,18 +353,23 @@ fn kernel_px(scene: &Scene, params: &FabricParams) -> f32 {
     let (_, median, _) = long.select_nth_unstable_by(mid, f64::total_cmp);
     params
         .kernel_px
-        .max((FIELD_KERNEL_AXES * *median * scene.pixels_per_unit) as f32)
+        .max((FIELD_KERNEL_AXES * *median * grid.pixels_per_unit()) as f32)
 }
 
-/// A field's kernel half-length in long semi-axes (see [`kernel_px`]).
+/// The kernel's least half-length in long semi-axes (see [`kernel_px`]).
 const FIELD_KERNEL_AXES: f64 = 1.2;
 
 /// One LIC pass along `axis` over the noise of `params`, as bytes (0..255, mid-grey 128).
-fn lic(scene: &Scene, params: &FabricParams, axis: Axis, directions: &Directions) -> Vec<u8> {
-    let r = scene.raster;
-    let (w, h) = (r.width, r.height);
-    let noise = noise_image(scene, params, axis);
-    let kernel = kernel_px(scene, params).max(1.0).round() as usize;
+fn lic(
+    scene: &Scene,
+    params: &FabricParams,
+    axis: Axis,
+    directions: &Directions,
+    grid: &LicGrid,
+) -> Vec<u8> {
+    let (w, h) = (grid.w, grid.h);
+    let noise = noise_image(scene, params, axis, grid);
+    let kernel = kernel_px(scene, params, grid).max(1.0).round() as usize;
     // A streamline is traced this many kernel half-lengths each way from its seed.
     let reach = 2 * kernel;
     let margin = reach + 1;
@@ -507,10 +594,9 @@ fn deposit(
     }
 }
 
-/// The noise of one pass, as signed bytes (±127 = ±1), one per output pixel.
-fn noise_image(scene: &Scene, params: &FabricParams, axis: Axis) -> Vec<i8> {
-    let r = scene.raster;
-    let (w, h) = (r.width, r.height);
+/// The noise of one pass, as signed bytes (±127 = ±1), one per pixel of the LIC's `grid`.
+fn noise_image(scene: &Scene, params: &FabricParams, axis: Axis, grid: &LicGrid) -> Vec<i8> {
+    let (w, h) = (grid.w, grid.h);
     match params.noise {
         Noise::White => (0..w * h)
             .into_par_iter()
@@ -525,7 +611,7 @@ fn noise_image(scene: &Scene, params: &FabricParams, axis: Axis) -> Vec<i8> {
         Noise::Samples => {
             // Dark ground, bright dots: the convolution draws bright threads through them.
             let mut img = vec![-127i8; w * h];
-            let scale = DVec2::new(w as f64 / r.domain.x, h as f64 / r.domain.y);
+            let scale = DVec2::new(w as f64 / grid.domain.x, h as f64 / grid.domain.y);
             let cells = &scene.cells;
             for (i, (p, m)) in cells.positions().iter().zip(cells.metrics()).enumerate() {
                 let e = m.eigen();
