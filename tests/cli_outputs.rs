@@ -220,3 +220,41 @@ fn a_missing_folder_is_named_as_the_user_gave_it() {
     );
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
 }
+
+/// The horizontal and vertical sampling factors of every component in a baseline JPEG's frame
+/// header (SOF0), read from the bytes.
+fn jpeg_sampling_factors(jpeg: &[u8]) -> Vec<u8> {
+    let at = jpeg
+        .windows(2)
+        .position(|w| w == [0xFF, 0xC0])
+        .expect("a baseline frame header");
+    // FFC0, length (2), precision (1), height (2), width (2), component count (1), then
+    // three bytes per component: id, sampling factors, quantisation table.
+    let components = usize::from(jpeg[at + 9]);
+    (0..components).map(|c| jpeg[at + 10 + 3 * c + 1]).collect()
+}
+
+#[test]
+fn jpeg_outputs_keep_full_colour_resolution_and_the_picture() {
+    // The same painting as PNG and as JPEG: the JPEG keeps every component at full resolution
+    // (4:4:4, no chroma subsampling to smear the looks' fine coloured lines and dots) and stays
+    // close to the PNG: these glyphs read 38.9 dB at quality 90, 36.1 dB at `image`'s default
+    // of 75, which the outputs had before.
+    let dir = tempfile::tempdir().unwrap();
+    let (png, jpg) = (dir.path().join("p.png"), dir.path().join("p.jpg"));
+    paint_to(&png).success();
+    paint_to(&jpg).success();
+    let jpeg = std::fs::read(&jpg).unwrap();
+    assert_eq!(jpeg_sampling_factors(&jpeg), vec![0x11; 3]);
+    let (a, b) = (pixels(&std::fs::read(&png).unwrap()), pixels(&jpeg));
+    assert_eq!(a.dimensions(), b.dimensions());
+    let mse = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(&p, &q)| (f64::from(p) - f64::from(q)).powi(2))
+        .sum::<f64>()
+        / a.as_raw().len() as f64;
+    let psnr = 10.0 * (255.0f64 * 255.0 / mse).log10();
+    assert!(psnr >= 37.5, "JPEG against PNG: {psnr:.2} dB");
+}

@@ -1,6 +1,6 @@
 //! Reading inputs and writing outputs safely: photos (with a pixel limit against decompression
 //! bombs, EXIF orientation applied, truncated files refused), `.npy` tensor fields and label
-//! maps (`npy.rs`), CSV and PNGs with text chunks. Every output goes through
+//! maps (`npy.rs`), CSV, PNGs with text chunks and JPEGs. Every output goes through
 //! [`write_atomic`] (`output.rs`): standard output for `-`, devices and pipes in place, regular
 //! files through a temporary file and a rename, so no half-written output is ever left behind.
 
@@ -304,23 +304,64 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
 }
 
 /// Encodes `img` to `path` ([`write_atomic`]); the format follows the extension (PNG when
-/// unknown, and for standard output).
+/// unknown, and for standard output). JPEG is written as [`save_rgb`] writes it.
 pub fn save_image(path: &Path, img: &DynamicImage) -> Result<()> {
-    let format = image::ImageFormat::from_path(path).unwrap_or(image::ImageFormat::Png);
-    let converted;
-    let img = if format == image::ImageFormat::Jpeg && !matches!(img, DynamicImage::ImageRgb8(_)) {
-        // JPEG holds 8-bit RGB only.
-        converted = DynamicImage::ImageRgb8(img.to_rgb8());
-        &converted
-    } else {
-        img
+    match img {
+        DynamicImage::ImageRgb8(rgb) => save_rgb(path, rgb),
+        _ if output_format(path) == image::ImageFormat::Jpeg => {
+            // JPEG holds 8-bit RGB only.
+            save_rgb(path, &img.to_rgb8())
+        }
+        _ => encode_with_image(path, |bytes, format| img.write_to(bytes, format)),
+    }
+}
+
+/// Encodes the RGB picture `img` to `path` ([`write_atomic`]) in the format its extension
+/// names (PNG when unknown, and for standard output). JPEG is written at [`JPEG_QUALITY`]
+/// with full-resolution colour (4:4:4: the looks' fine coloured lines and dots keep their
+/// colour) by `jpeg-encoder`, in a third to a half of the time of `image`'s encoder.
+pub fn save_rgb(path: &Path, img: &image::RgbImage) -> Result<()> {
+    if output_format(path) != image::ImageFormat::Jpeg {
+        return encode_with_image(path, |bytes, format| img.write_to(bytes, format));
+    }
+    let failed = |reason: String| Error::Encode {
+        path: path.into(),
+        reason,
     };
-    // Encoded in memory first: some encoders seek, and pipes and standard output cannot.
+    let (Ok(w), Ok(h)) = (u16::try_from(img.width()), u16::try_from(img.height())) else {
+        return Err(failed(format!(
+            "{} × {} pixels is over JPEG's limit of 65535 a side",
+            img.width(),
+            img.height()
+        )));
+    };
+    let mut bytes = Vec::new();
+    let mut encoder = jpeg_encoder::Encoder::new(&mut bytes, JPEG_QUALITY);
+    encoder.set_sampling_factor(jpeg_encoder::SamplingFactor::R_4_4_4);
+    encoder
+        .encode(img.as_raw(), w, h, jpeg_encoder::ColorType::Rgb)
+        .map_err(|e| failed(e.to_string()))?;
+    write_atomic(path, |w| w.write_all(&bytes))
+}
+
+/// Quality (1 to 100) of JPEG outputs: GIMP's default; at 75 the hatching's fine lines ring.
+pub const JPEG_QUALITY: u8 = 90;
+
+/// The format an output at `path` is written in: the extension's, PNG when unknown.
+fn output_format(path: &Path) -> image::ImageFormat {
+    image::ImageFormat::from_path(path).unwrap_or(image::ImageFormat::Png)
+}
+
+/// Encodes through `image` (`write(bytes, format)`), in memory first (some encoders seek, and
+/// pipes and standard output cannot), then to `path`.
+fn encode_with_image(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::Cursor<Vec<u8>>, image::ImageFormat) -> image::ImageResult<()>,
+) -> Result<()> {
     let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, format)
-        .map_err(|e| Error::Encode {
-            path: path.into(),
-            reason: e.to_string(),
-        })?;
+    write(&mut bytes, output_format(path)).map_err(|e| Error::Encode {
+        path: path.into(),
+        reason: e.to_string(),
+    })?;
     write_atomic(path, |w| w.write_all(bytes.get_ref()))
 }

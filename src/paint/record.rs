@@ -29,7 +29,7 @@ pub fn save_painting(out: &Path, img: &image::RgbImage, record: &PaintRecord) ->
         Ok(image::ImageFormat::Png) | Err(_)
     );
     if !is_png {
-        return crate::io::save_image(out, &image::DynamicImage::ImageRgb8(img.clone()));
+        return crate::io::save_rgb(out, img);
     }
     let mut command = format!(
         "anisopaint paint {} -s {} --seed {}",
