@@ -2,7 +2,7 @@
 //! items over a few worker threads with bounded memory ([`run`]), going on past bad files.
 //!
 //! Outputs keep the folder structure below each source folder and are named
-//! `STEM.STYLE.png`. An output that exists is skipped unless forced, and every output is written
+//! `STEM.STYLE.EXT`, `EXT` one of [`OUTPUT_FORMATS`] (PNG unless asked). An output that exists is skipped unless forced, and every output is written
 //! atomically (temporary file, then rename), so a batch that was interrupted is resumed by
 //! running it again. `--shard i/n` keeps every n-th item of the sorted list, so the same batch
 //! can be spread over machines (GNU parallel, Slurm job arrays) with no overlap.
@@ -35,6 +35,10 @@ pub enum Outcome {
 pub const IMAGE_EXTENSIONS: [&str; 13] = [
     "png", "jpg", "jpeg", "tif", "tiff", "webp", "gif", "bmp", "pnm", "ppm", "pgm", "pbm", "pam",
 ];
+
+/// The extensions `batch --format` takes for its outputs: PNG, JPEG (quality 90, see
+/// [`crate::io::save_rgb`]), TIFF and lossless WebP.
+pub const OUTPUT_FORMATS: [&str; 4] = ["png", "jpg", "tif", "webp"];
 
 /// Default memory the running items may use together (`batch --memory`), estimated from their
 /// pixel counts: a large photo does not run beside others when together they would exceed it.
@@ -81,12 +85,13 @@ pub const BYTES_PER_PIXEL: u64 = 48;
 
 /// The items of a batch: files named in `sources`, and the images in folders named there
 /// (their subfolders too with `recursive`), sorted by output path, sharded as `shard`
-/// (1-based index, count).
+/// (1-based index, count). Outputs are named `STEM.STYLE.EXT` under `out_dir`, `EXT` being
+/// `extension`.
 pub fn plan(
     sources: &[PathBuf],
     recursive: bool,
     out_dir: &Path,
-    style: &str,
+    (style, extension): (&str, &str),
     shard: (usize, usize),
 ) -> Result<Vec<Item>> {
     let (index, count) = shard;
@@ -114,7 +119,7 @@ pub fn plan(
                 .map_or_else(|| "image".into(), |s| s.to_string_lossy().into_owned());
             let output = out_dir
                 .join(relative.parent().unwrap_or(Path::new("")))
-                .join(format!("{stem}.{style}.png"));
+                .join(format!("{stem}.{style}.{extension}"));
             Item { input, output }
         })
         .collect();
@@ -126,7 +131,7 @@ pub fn plan(
         if !used.insert(item.output.clone()) {
             let name = item.input.file_name().unwrap_or_default().to_string_lossy();
             let parent = item.output.parent().unwrap_or(Path::new("")).to_path_buf();
-            item.output = parent.join(format!("{name}.{style}.png"));
+            item.output = parent.join(format!("{name}.{style}.{extension}"));
             used.insert(item.output.clone());
         }
     }
@@ -317,18 +322,18 @@ mod tests {
             std::fs::write(p, b"x").unwrap();
         }
         let out = Path::new("/out");
-        let all = plan(&[dir.path().into()], true, out, "mosaic", (1, 1)).unwrap();
+        let all = plan(&[dir.path().into()], true, out, ("mosaic", "png"), (1, 1)).unwrap();
         assert_eq!(all.len(), 4);
         assert!(all.iter().any(|i| i.output == out.join("sub/d.mosaic.png")));
-        let flat = plan(&[dir.path().into()], false, out, "mosaic", (1, 1)).unwrap();
+        let flat = plan(&[dir.path().into()], false, out, ("mosaic", "png"), (1, 1)).unwrap();
         assert_eq!(flat.len(), 3);
         let mut union: Vec<Item> = (1..=3)
-            .flat_map(|i| plan(&[dir.path().into()], true, out, "mosaic", (i, 3)).unwrap())
+            .flat_map(|i| plan(&[dir.path().into()], true, out, ("mosaic", "png"), (i, 3)).unwrap())
             .collect();
         union.sort_by(|a, b| a.output.cmp(&b.output));
         assert_eq!(union, all);
-        assert!(plan(&[dir.path().into()], true, out, "m", (0, 3)).is_err());
-        assert!(plan(&[dir.path().into()], true, out, "m", (4, 3)).is_err());
+        assert!(plan(&[dir.path().into()], true, out, ("m", "png"), (0, 3)).is_err());
+        assert!(plan(&[dir.path().into()], true, out, ("m", "png"), (4, 3)).is_err());
         assert_eq!(parse_shard("2/8").unwrap(), (2, 8));
         assert!(parse_shard("2").is_err());
     }
@@ -339,7 +344,14 @@ mod tests {
         for name in ["a.png", "a.jpg"] {
             std::fs::write(dir.path().join(name), b"x").unwrap();
         }
-        let items = plan(&[dir.path().into()], false, Path::new("o"), "s", (1, 1)).unwrap();
+        let items = plan(
+            &[dir.path().into()],
+            false,
+            Path::new("o"),
+            ("s", "jpg"),
+            (1, 1),
+        )
+        .unwrap();
         assert_ne!(items[0].output, items[1].output);
     }
 }

@@ -385,3 +385,59 @@ fn concurrent_shards_paint_every_file_exactly_once() {
     want.sort();
     assert_eq!(written, want, "parallel: {has_parallel}");
 }
+
+#[test]
+fn batch_writes_the_format_asked_for() {
+    // `--format jpg`: every output is a JPEG named STEM.STYLE.jpg, of its photo's size, and a
+    // second run finds them and skips them; a format that is not offered is bad usage.
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    std::fs::copy("samples/chelsea.png", input.join("cat.png")).unwrap();
+    std::fs::copy("samples/coffee.png", input.join("sub/cup.png")).unwrap();
+    let out = dir.path().join("out");
+    let run = || {
+        bin()
+            .arg("batch")
+            .arg(&input)
+            .args(["--recursive", "--format", "jpg", "-o"])
+            .arg(&out)
+            .assert()
+            .success()
+    };
+    run();
+    let mut written = common::files_under(&out);
+    written.sort();
+    assert_eq!(
+        written,
+        vec![out.join("cat.mosaic.jpg"), out.join("sub/cup.mosaic.jpg")]
+    );
+    for (painting, photo) in written
+        .iter()
+        .zip(["samples/chelsea.png", "samples/coffee.png"])
+    {
+        let bytes = std::fs::read(painting).unwrap();
+        assert_eq!(
+            image::guess_format(&bytes).unwrap(),
+            image::ImageFormat::Jpeg
+        );
+        let want = image::image_dimensions(photo).unwrap();
+        assert_eq!(
+            image::load_from_memory(&bytes)
+                .unwrap()
+                .to_rgb8()
+                .dimensions(),
+            want
+        );
+    }
+    let again = run();
+    let text = String::from_utf8_lossy(&again.get_output().stderr).into_owned();
+    assert!(text.contains("exists, skipped"), "{text}");
+    bin()
+        .arg("batch")
+        .arg(&input)
+        .args(["--format", "gif", "-o"])
+        .arg(&out)
+        .assert()
+        .code(2);
+}

@@ -29,6 +29,10 @@ pub(super) struct BatchArgs {
     /// Output folder (created); the folder structure below each source folder is kept.
     #[arg(short, long)]
     out: PathBuf,
+    /// Format of the outputs, named STEM.STYLE.FORMAT: JPEG at quality 90, TIFF, or lossless
+    /// WebP instead of PNG.
+    #[arg(long, default_value = "png", value_parser = clap::builder::PossibleValuesParser::new(crate::batch::OUTPUT_FORMATS))]
+    format: String,
     /// Also paint the images in subfolders.
     #[arg(long)]
     recursive: bool,
@@ -87,7 +91,7 @@ pub(super) fn batch(args: &BatchArgs) -> Result<usize> {
         &args.sources,
         args.recursive,
         &args.out,
-        &preset.name,
+        (&preset.name, &args.format),
         shard,
     )?;
     check_output_dir(&args.out)?;
