@@ -5,7 +5,8 @@
 //! Order of work in [`sample`]:
 //! 1. [`boundary`]: fixed corner and edge samples;
 //! 2. the interior's seed: a metric-aligned hexagonal lattice grown as a front ([`lattice`]),
-//!    by default from [`params::LATTICE_FROM_COUNT`] estimated samples up, or the paper's
+//!    by default from [`params::LATTICE_FROM_COUNT`] estimated samples up (from
+//!    [`params::LATTICE_FROM_COUNT_UNIFORM`] for a constant metric), or the paper's
 //!    relaxation dart throwing up to the estimated count ([`seeding`]), both testing their
 //!    candidates exactly in the [`cellgrid`];
 //! 3. [`delaunay`]: the anisotropic Delaunay triangulation, whose one-rings are the only
@@ -170,7 +171,12 @@ pub fn sample_observed(
     let fixed = boundary::boundary_samples(field, &mut rng);
     let target = (estimate - fixed.len() as f64).round().max(0.0) as usize;
     let seeding = match params.seeding {
-        Seeding::Auto if estimate >= params::LATTICE_FROM_COUNT => Seeding::Lattice,
+        Seeding::Auto
+            if estimate >= params::LATTICE_FROM_COUNT
+                || (survey.uniform && estimate >= params::LATTICE_FROM_COUNT_UNIFORM) =>
+        {
+            Seeding::Lattice
+        }
         Seeding::Auto => Seeding::Darts,
         chosen => chosen,
     };

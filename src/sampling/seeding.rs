@@ -80,6 +80,9 @@ pub struct Survey {
     pub estimate: f64,
     /// The smallest geometric-mean radius `√det m` over the nodes.
     pub smallest_radius: f64,
+    /// Every node holds the first node's tensor (a constant metric, as `analytic:constant`
+    /// or a constant `.npy` field gives).
+    pub uniform: bool,
 }
 
 /// The first node `bad` refuses, the estimated count and the smallest radius, in one pass
@@ -90,22 +93,24 @@ pub struct Survey {
 #[must_use]
 pub fn survey(metric: &TensorField, bad: impl Fn(Tensor) -> bool + Sync) -> Survey {
     let area = node_area(metric);
-    let chunks: Vec<(Option<usize>, f64, f64)> = metric
+    let first = metric.data().first().copied();
+    let chunks: Vec<(Option<usize>, f64, f64, bool)> = metric
         .data()
         .par_chunks(SURVEY_CHUNK)
         .enumerate()
         .map(|(k, chunk)| {
             let (mut sum, mut smallest) = (0.0, f64::INFINITY);
+            let uniform = chunk.iter().all(|&c| Some(c) == first);
             for (i, &c) in chunk.iter().enumerate() {
                 let t = Tensor::from_f32(c);
                 if bad(t) {
-                    return (Some(k * SURVEY_CHUNK + i), sum, smallest);
+                    return (Some(k * SURVEY_CHUNK + i), sum, smallest, uniform);
                 }
                 let det = t.det();
                 sum += area / (2.0 * 3f64.sqrt() * det);
                 smallest = smallest.min(det);
             }
-            (None, sum, smallest)
+            (None, sum, smallest, uniform)
         })
         .collect();
     let cols = metric.cols();
@@ -120,6 +125,7 @@ pub fn survey(metric: &TensorField, bad: impl Fn(Tensor) -> bool + Sync) -> Surv
             .map(|c| c.2)
             .fold(f64::INFINITY, f64::min)
             .sqrt(),
+        uniform: chunks.iter().all(|c| c.3),
     }
 }
 
