@@ -188,6 +188,35 @@ impl Packing<'_> {
     }
 }
 
+/// The [`LatticeParams::phase`] that lays a row of the lattice of the constant metric `m`
+/// along the domain's walls that are longest in the metric's own space (the horizontal ones,
+/// `domain.x` long, or the vertical ones): the wall's fixed samples then sit on the lattice
+/// as a row of it, where a lattice at another angle meets them in notches that the relaxation
+/// fills with compressed samples. In the metric's space a wall along `d` runs along `m⁻¹d`;
+/// the lattice's rows run at `α + phase + kπ/3`, `α` the long axis's angle. Measured after
+/// relaxation, the default phase against this one:
+/// - constant fields of about 1 450 samples (700×600), coverage / overlap / p5 of the nearest
+///   distances: 2:1, 90.3 % / 0.64 % / 0.927 against 89.3 % / 0.20 % / 0.963; 4:1, 90.0 % /
+///   0.94 % / 0.911 against 89.7 % / 0.52 % / 0.931;
+/// - 24 constant fields of 1 450 and 5 700 samples (800×600, anisotropy 1.5, 3 and 5 at 0°,
+///   20°, 45° and 70°): p5 +0.007 and overlap −0.09 points on average, coverage −0.14 points
+///   (from +0.8 to −2.2: where the aligned rows leave fewer samples); coverage ≥ 88 %,
+///   overlap ≤ 1 % and p5 ≥ 0.93 together on 18 fields against 15. At 0° the default already
+///   lies along the walls.
+#[must_use]
+pub fn wall_phase(m: &Tensor, domain: DVec2) -> Option<f64> {
+    let inv = m.inverse()?;
+    let (along_x, along_y) = (inv.mul_vec(DVec2::X), inv.mul_vec(DVec2::Y));
+    let wall = if along_x.length() * domain.x >= along_y.length() * domain.y {
+        along_x
+    } else {
+        along_y
+    };
+    let alpha = m.eigen().angle;
+    let phase = (wall.y.atan2(wall.x) - alpha).rem_euclid(std::f64::consts::FRAC_PI_3);
+    phase.is_finite().then_some(phase)
+}
+
 /// Grows the lattice from a seed near the domain's centre (placed by `rng`) around the `fixed`
 /// boundary samples; where the front leaves a hole larger than a grid cell (the median long
 /// semi-axis), a new front grows from the hole's centre; last, the seams are filled at
@@ -263,6 +292,35 @@ fn long_axis_direction(m: &Tensor) -> DVec2 {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn wall_phase_lays_a_row_along_the_longer_wall() {
+        for (angle, long, short, domain) in [
+            (0.3, 6.0, 2.0, DVec2::new(800.0, 600.0)),
+            (-1.1, 9.0, 1.8, DVec2::new(300.0, 900.0)),
+            (2.0, 4.0, 4.0, DVec2::new(500.0, 500.0)),
+        ] {
+            let m = Tensor::from_eigen(angle, long, short);
+            let phase = wall_phase(&m, domain).unwrap();
+            assert!((0.0..std::f64::consts::FRAC_PI_3).contains(&phase));
+            let inv = m.inverse().unwrap();
+            let (x, y) = (inv.mul_vec(DVec2::X), inv.mul_vec(DVec2::Y));
+            let wall = if x.length() * domain.x >= y.length() * domain.y {
+                x
+            } else {
+                y
+            };
+            // The lattice's three row directions in the metric's own space, as the front
+            // proposes them: one runs along the wall.
+            let along = (0..3).any(|k| {
+                let row = DVec2::from_angle(
+                    m.eigen().angle + phase + f64::from(k) * std::f64::consts::FRAC_PI_3,
+                );
+                row.perp_dot(wall.normalize()).abs() < 1e-9
+            });
+            assert!(along, "{angle}: {phase}");
+        }
+    }
     use super::*;
     use crate::sampling::distance::normalised_distance;
 

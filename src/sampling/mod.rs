@@ -185,8 +185,16 @@ pub fn sample_observed(
             seeding::relaxation_dart_throwing(field, &fixed, target, &params.darts, &mut rng)
         }
         Seeding::Lattice => {
-            let interior =
-                lattice::lattice_seeding(field, &fixed, target, &params.lattice, &mut rng);
+            // A constant metric's lattice lies along the walls (see `lattice::wall_phase`).
+            let wall = survey
+                .uniform
+                .then(|| lattice::wall_phase(&field.node(0, 0), field.domain()))
+                .flatten();
+            let lattice = lattice::LatticeParams {
+                phase: wall.unwrap_or(params.lattice.phase),
+                ..params.lattice.clone()
+            };
+            let interior = lattice::lattice_seeding(field, &fixed, target, &lattice, &mut rng);
             // The closest a seed sample may be: the fill's ρ when it ran.
             (interior, params.lattice.rho.min(params.lattice.fill_rho))
         }
