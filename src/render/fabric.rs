@@ -336,9 +336,9 @@ impl Directions {
 /// The kernel's half-length in pixels of the LIC's `grid`: `kernel_px`, or more, so that it
 /// reaches [`FIELD_KERNEL_AXES`] median long semi-axes of the samples, the distance between
 /// neighbouring dots along a thread; the dots then join into continuous fibres (paper Figure
-/// 7) instead of stitches, at any size. Photos at 512 px read 7–11 px here, so `kernel_px`
-/// rules them; a one-megapixel photo's ellipses are twice as long, and with a fixed kernel its
-/// threads broke into blobs.
+/// 7) instead of stitches, at any size. Photos at 512 px read 7–11 px here, about
+/// `kernel_px` (10); a one-megapixel photo's ellipses are twice as long, and with a fixed
+/// kernel its threads broke into blobs.
 fn kernel_px(scene: &Scene, params: &FabricParams, grid: &LicGrid) -> f32 {
     let mut long: Vec<f64> = scene
         .cells
