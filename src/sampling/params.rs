@@ -85,15 +85,16 @@ pub const LATTICE_FROM_COUNT: f64 = 2000.0;
 
 /// [`Seeding::Auto`] seeds a constant metric with the lattice from this many estimated samples
 /// up: the lattice is that field's hexagonal packing, and only the rows along the walls need
-/// the relaxation. Measured on constant fields on 800×600, anisotropy 1.5, 3 and 5 at 0°, 20°,
-/// 45° and 70° (coverage / overlap after relaxation, darts → lattice):
-/// - at about 1 200 samples the lattice covered 1.9 points more on average (87.8 → 89.6 %),
-///   overlap 0.22–0.99 % against 0.70–0.97 %; only 5:1 along an axis covered less
-///   (87.9 → 87.2 %);
-/// - at about 1 450 samples 87.3 → 90.0 % on average, none over 1 % either way;
-/// - at about 1 000 samples +1.8 points, but one field overlapped 1.02 % and 5:1 along an
-///   axis fell to 84.7 %; at about 650, 5 fields of 12 overlapped over 1 % (darts: 1), the
-///   wall rows being a large share of the samples.
+/// the relaxation. Measured with the lattice at its default angle on constant fields on
+/// 800×600, anisotropy 1.5, 3 and 5 at 0°, 20°, 45° and 70° (coverage / overlap after
+/// relaxation, darts → lattice; rows along the walls, `lattice::wall_phase`, came later):
+/// - at 1 386 estimated samples (about 1 450 placed) 87.3 → 90.0 % on average, none over 1 %
+///   either way;
+/// - at 1 145 (about 1 200 placed) 87.8 → 89.6 %, overlap 0.22–0.99 % against 0.70–0.97 %;
+///   only 5:1 along an axis covered less (87.9 → 87.2 %);
+/// - at 962 (about 1 000 placed) +1.8 points, but one field overlapped 1.02 % and 5:1 along an
+///   axis fell to 84.7 %; at 616 (about 650 placed), 5 fields of 12 overlapped over 1 % (darts:
+///   1), the wall rows being a large share of the samples.
 pub const LATTICE_FROM_COUNT_UNIFORM: f64 = 1200.0;
 
 impl Seeding {
