@@ -8,7 +8,7 @@
 //! threads span the colour map from dark to light.
 //!
 //! The LIC runs on the output's pixels up to a one-megapixel photo's diagonal and on a grid of
-//! that size beyond (`LicGrid`, read bilinearly): the look's lengths are in that grid's
+//! that size beyond (`lic_grid.rs`, read bilinearly): the look's lengths are in that grid's
 //! pixels, so a 12 MP painting shows the weave a 1 MP one shows, not specks, and the LIC costs
 //! the same at any larger size.
 //!
@@ -23,6 +23,7 @@
 //! Values are `f32`; the noise and the first pass are kept as bytes to hold memory down.
 
 use super::colour::{anisotropy_colour, linear_of, salt, Linear};
+use super::lic_grid::LicGrid;
 use super::rounding::round;
 use super::scene::Scene;
 use crate::field::TensorField;
@@ -46,7 +47,7 @@ pub struct FabricParams {
     /// The noise.
     pub noise: Noise,
     /// Shortest half-length of the convolution kernel, in pixels of the LIC's grid (the
-    /// output's own up to a one-megapixel photo's size, `LIC_MAX_DIAGONAL`); the kernel
+    /// output's own up to a one-megapixel photo's size, see `lic_grid.rs`); the kernel
     /// reaches at least 1.2 median long semi-axes of the samples (see `kernel_px`).
     pub kernel_px: f32,
     /// Weight of the LIC along the short axes (the cross threads), 0 to 1.
@@ -115,81 +116,6 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
         }
     });
     RgbImage::from_raw(w as u32, h as u32, out).expect("w·h RGB pixels")
-}
-
-/// The grid the LIC runs on: the output's own pixels up to [`LIC_MAX_DIAGONAL`], a coarser grid
-/// of the same aspect beyond it, whose values the output reads bilinearly. Every length of the
-/// look (the kernel, the threads' thickness, the grain of white noise) is in this grid's
-/// pixels, so a painting larger than that shows the same texture, only finer, instead of
-/// threads that shrink to specks as the pixel count grows (a 12 MP fabric read as a blurred
-/// photo with a cross at every sample), and the LIC's cost stops growing with the output.
-struct LicGrid {
-    /// Width and height in grid pixels.
-    w: usize,
-    h: usize,
-    /// Domain units per grid pixel along x and y.
-    to_domain: DVec2,
-    /// The domain's size.
-    domain: DVec2,
-}
-
-/// Largest diagonal, in pixels, of the grid the LIC runs on: a one-megapixel photo's. The looks'
-/// lengths were chosen on photos of this size and under.
-const LIC_MAX_DIAGONAL: f64 = 1500.0;
-
-impl LicGrid {
-    fn for_output(w: usize, h: usize, domain: DVec2) -> Self {
-        let diagonal = ((w * w + h * h) as f64).sqrt();
-        let (gw, gh) = if diagonal > LIC_MAX_DIAGONAL {
-            let f = diagonal / LIC_MAX_DIAGONAL;
-            let shrunk = |n: usize| ((n as f64 / f).round() as usize).max(1);
-            (shrunk(w), shrunk(h))
-        } else {
-            (w, h)
-        };
-        LicGrid {
-            w: gw,
-            h: gh,
-            to_domain: DVec2::new(domain.x / gw as f64, domain.y / gh as f64),
-            domain,
-        }
-    }
-
-    /// Grid pixels per domain unit (the geometric mean of the two axes').
-    fn pixels_per_unit(&self) -> f64 {
-        ((self.w as f64 / self.domain.x) * (self.h as f64 / self.domain.y)).sqrt()
-    }
-
-    /// The two grid rows output row `y` reads and the weight of the lower one.
-    fn rows_for(&self, y: usize, h: usize) -> (usize, usize, f32) {
-        if self.h == h {
-            return (y, y, 0.0);
-        }
-        axis_pair((y as f64 + 0.5) * self.h as f64 / h as f64 - 0.5, self.h)
-    }
-
-    /// The value (0 to 1) of grid image `img` at output pixel `x` of a row `w` wide, between
-    /// grid `rows` (from [`Self::rows_for`]).
-    #[inline]
-    fn read(&self, img: &[u8], x: usize, w: usize, (r0, r1, ty): (usize, usize, f32)) -> f32 {
-        let byte = |i: usize| f32::from(img[i]) / 255.0;
-        if self.w == w && ty == 0.0 {
-            return byte(r0 * w + x);
-        }
-        let (c0, c1, tx) = axis_pair((x as f64 + 0.5) * self.w as f64 / w as f64 - 0.5, self.w);
-        let upper = byte(r0 * self.w + c0) * (1.0 - tx) + byte(r0 * self.w + c1) * tx;
-        let lower = byte(r1 * self.w + c0) * (1.0 - tx) + byte(r1 * self.w + c1) * tx;
-        upper * (1.0 - ty) + lower * ty
-    }
-}
-
-/// The two grid nodes around coordinate `t` (in nodes, clamped to `0..n`) and the weight of
-/// the second.
-fn axis_pair(t: f64, n: usize) -> (usize, usize, f32) {
-    let t = t.clamp(0.0, (n - 1) as f64);
-    let i0 = t as usize;
-    let i1 = (i0 + 1).min(n - 1);
-    (i0, i1, (t - i0 as f64) as f32)
 }
 
 /// How far the threads of a field (no photo) reach from its colour map towards black and

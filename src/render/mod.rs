@@ -18,6 +18,7 @@ pub mod engrave;
 pub mod fabric;
 pub mod font;
 pub mod glyphs;
+mod lic_grid;
 pub mod look;
 pub mod mosaic;
 pub mod outline;

@@ -292,6 +292,8 @@ fn long_axis_direction(m: &Tensor) -> DVec2 {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::sampling::distance::normalised_distance;
 
     #[test]
     fn wall_phase_lays_a_row_along_the_longer_wall() {
@@ -321,8 +323,6 @@ mod tests {
             assert!(along, "{angle}: {phase}");
         }
     }
-    use super::*;
-    use crate::sampling::distance::normalised_distance;
 
     #[test]
     fn long_axis_direction_matches_the_eigenvector() {
