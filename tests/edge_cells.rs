@@ -355,7 +355,8 @@ fn shading_settled_pixels_without_the_search_gives_the_same_picture() {
             let (w, h) = (W as usize * scale, H as usize * scale);
             let scene = Scene::new(sites.cells(), &loaded.metric, Some(&photo), w, h, ss);
             let calls = AtomicUsize::new(0);
-            let settled = scene.shade_settled(colour, |p, delta_squared, o| {
+            // `colour` inks within 1 px of a border: the settled pixels' clearance covers it.
+            let settled = scene.shade_settled(1.0, colour, |p, delta_squared, o| {
                 calls.fetch_add(1, Ordering::Relaxed);
                 assert_eq!(delta_squared, scene.cells.delta_squared(o.site, p));
                 assert_eq!(o.border_px, f32::INFINITY);

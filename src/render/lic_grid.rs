@@ -21,9 +21,9 @@ pub(super) struct LicGrid {
     pub(super) domain: DVec2,
 }
 
-/// Largest diagonal, in pixels, of the grid the LIC runs on: a one-megapixel photo's. The looks'
-/// lengths were chosen on photos of this size and under.
-const LIC_MAX_DIAGONAL: f64 = 1500.0;
+/// Largest diagonal, in pixels, of the grid the LIC runs on: the one the looks' lengths were
+/// chosen at.
+const LIC_MAX_DIAGONAL: f64 = super::raster::REFERENCE_DIAGONAL;
 
 impl LicGrid {
     pub(super) fn for_output(w: usize, h: usize, domain: DVec2) -> Self {

@@ -17,7 +17,9 @@ use image::RgbImage;
 /// Parameters of the mosaic look.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MosaicParams {
-    /// Border width in output pixels (0: no borders).
+    /// Border width in pixels of a picture of up to a 1500 px diagonal (a one-megapixel
+    /// photo's); a larger picture widens it with its diagonal
+    /// ([`Scene::border_px`](super::scene::Scene::border_px)). 0: no borders.
     pub border_width: f32,
     /// Border colour, sRGB.
     pub border_colour: [u8; 3],
@@ -55,6 +57,7 @@ impl MosaicParams {
 #[must_use]
 pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let border = super::colour::linear_of(params.border_colour);
+    let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
     // The cell's colour with its relief at `p`, from the site's `δ²` there.
     let inside = |p: DVec2, delta_squared: f64, o: &Owner| {
@@ -73,10 +76,11 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     };
     // Pixels the cell map settles have no border near: no ink (`border_coverage` is 0).
     scene.shade_settled(
+        width,
         |p, o| {
             let c = inside(p, scene.cells.delta_squared(o.site, p), o);
-            if params.border_width > 0.0 {
-                mix(c, border, border_coverage(o, params.border_width))
+            if width > 0.0 {
+                mix(c, border, border_coverage(o, width))
             } else {
                 c
             }

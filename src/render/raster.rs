@@ -14,6 +14,12 @@ use super::voronoi::{Owner, VoronoiCells, NONE};
 use glam::DVec2;
 use rayon::prelude::*;
 
+/// The diagonal, in pixels, of the pictures the looks' lengths in pixels were chosen on (a
+/// one-megapixel photo's). A larger picture draws those lengths scaled with its diagonal
+/// ([`Raster::length_scale`]), so it shows the same look, finer, instead of lines that thin
+/// to hairlines, gone when the picture is seen whole.
+pub const REFERENCE_DIAGONAL: f64 = 1500.0;
+
 /// Where the raster points of an output image lie in the field's domain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Raster {
@@ -54,6 +60,14 @@ impl Raster {
     pub fn point(&self, gx: usize, gy: usize) -> DVec2 {
         let s = self.step();
         DVec2::new((gx as f64 + 0.5) * s.x, (gy as f64 + 0.5) * s.y)
+    }
+
+    /// How many of this picture's pixels a length of one pixel at [`REFERENCE_DIAGONAL`]
+    /// takes: the picture's diagonal over that one, and never under 1.
+    #[must_use]
+    pub fn length_scale(&self) -> f64 {
+        let (w, h) = (self.width as f64, self.height as f64);
+        ((w * w + h * h).sqrt() / REFERENCE_DIAGONAL).max(1.0)
     }
 
     /// Output pixels per domain unit (the geometric mean of x and y).

@@ -51,7 +51,8 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
             let colours: Vec<Linear> = (0..scene.colours.len())
                 .map(|i| p.jittered(scene.colours[i], i as u32))
                 .collect();
-            let border = (p.border_width > 0.0).then_some((p.border_colour, p.border_width));
+            let border =
+                (p.border_width > 0.0).then(|| (p.border_colour, scene.border_px(p.border_width)));
             cells(&mut out, scene, &colours, border);
         }
         Look::Texture(p) if matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch) => {
@@ -60,7 +61,8 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
         Look::Texture(p) if p.kind == TextureKind::Stipple => stippled(&mut out, scene, p),
         Look::Texture(p) => {
             let colours = tone_colours(scene, p);
-            let border = (p.border_width > 0.0).then(|| (p.ink.leading(), p.border_width));
+            let border =
+                (p.border_width > 0.0).then(|| (p.ink.leading(), scene.border_px(p.border_width)));
             cells(&mut out, scene, &colours, border);
         }
         Look::Glyphs(p) => glyphs(&mut out, scene, p),
@@ -240,7 +242,7 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
-        traced.write_leading(out, p.ink.leading(), p.border_width);
+        traced.write_leading(out, p.ink.leading(), scene.border_px(p.border_width));
     }
 }
 
@@ -302,7 +304,7 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
-        traced.write_leading(out, p.ink.leading(), p.border_width);
+        traced.write_leading(out, p.ink.leading(), scene.border_px(p.border_width));
     }
 }
 

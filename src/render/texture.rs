@@ -93,7 +93,8 @@ pub struct TextureParams {
     /// Anisotropy `1 − b/a` at which the texture reaches full contrast; below it the
     /// texture fades towards flat tone.
     pub fade_anisotropy: f32,
-    /// Width of cell borders in output pixels (0: none).
+    /// Width of cell borders (0: none), in pixels of a picture of up to a 1500 px diagonal,
+    /// widened with a larger picture's diagonal as the mosaic's leading is.
     pub border_width: f32,
     /// Hatch and cross-hatch: the direction (degrees from the x axis, y down) of the lines in
     /// cells rounder than `fade_anisotropy`, which then keep full contrast instead of fading:
@@ -253,6 +254,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         _ => Vec::new(),
     };
     let paper = linear_of(params.paper);
+    let border_width = scene.border_px(params.border_width);
     let px = 1.0 / scene.pixels_per_unit;
     let blurred = match (params.ink, scene.photo) {
         (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
@@ -302,8 +304,8 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
                 mix_encoded(paper, ink(), cover)
             }
         };
-        if params.border_width > 0.0 {
-            let border = border_coverage(o, params.border_width);
+        if border_width > 0.0 {
+            let border = border_coverage(o, border_width);
             if border > 0.0 {
                 c = mix(c, ink(), border);
             }
@@ -312,7 +314,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     };
     // Settled pixels have no border near (their owner's `border_px` is infinite): the same
     // colour, without the owner search.
-    scene.shade_settled(colour, |p, _, o| colour(p, o))
+    scene.shade_settled(border_width, colour, |p, _, o| colour(p, o))
 }
 
 /// `a + (b − a)·t` in the sRGB encoding: ink covering a share `t` of a pixel reads as that
