@@ -170,8 +170,8 @@ impl<'a> Scene<'a> {
                             }
                         }
                         _ => {
-                            let near = distances.as_ref().and_then(|d| d.within(x, y));
-                            self.shade_pixel((x, y), o, near, &colour, steps, px);
+                            let map = distances.as_ref();
+                            self.shade_pixel((x, y), o, map, &colour, steps, px);
                         }
                     }
                 }
@@ -181,7 +181,7 @@ impl<'a> Scene<'a> {
     }
 
     /// One pixel (`x`, `y`) of [`Self::shade`] whose centre's owner is `o`, into `px`, its border
-    /// distance no more than `map_distance` when there is one; `steps`
+    /// distance read from `distances` (the cell map's) when the search kept no runner-up; `steps`
     /// are the raster's points' and the pixel centres' steps.
     #[inline]
     #[allow(clippy::too_many_arguments)] // one pixel's whole context, in the hot loop
@@ -189,7 +189,7 @@ impl<'a> Scene<'a> {
         &self,
         (x, y): (usize, usize),
         o: &Owner,
-        map_distance: Option<f32>,
+        distances: Option<&BorderDistances>,
         colour: &F,
         steps: (DVec2, DVec2),
         px: &mut [u8],
@@ -220,7 +220,9 @@ impl<'a> Scene<'a> {
         // A wide border's distance from the cell map where the search kept no runner-up:
         // every border of the map is inked. Where it kept one, its first-order distance is
         // the better one this near (the map's border runs through pixel edges' midpoints).
-        let map_distance = map_distance.filter(|_| o.border_px == f32::INFINITY);
+        let map_distance = distances
+            .filter(|_| o.border_px == f32::INFINITY)
+            .and_then(|d| d.within(x, y));
         if let Some(d) = map_distance {
             o.border_px = d;
         }
