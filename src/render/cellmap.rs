@@ -77,11 +77,12 @@ impl CellMap {
         (o != NONE && o & Self::ABSORBED != 0).then_some(o & !Self::ABSORBED)
     }
 
-    /// The owner the map settles at `p` without a search, when `p` is a pixel's centre that was
-    /// absorbed into another cell, or whose eight neighbours (those inside the map) all
-    /// belong to its own cell: there the owner search's runner-up owns no pixel around it and
-    /// is dropped (as the owner search reads the map), so the owner is the map's and there is
-    /// no border.
+    /// The owner the map settles at `p` without a search, when `p` is a pixel's centre whose
+    /// eight neighbours (those inside the map) all belong to its own cell: there the owner
+    /// search's runner-up owns no pixel around it and is dropped (as the owner search reads the
+    /// map), so the owner is the map's and there is no border. An absorbed pixel next to
+    /// another cell is not settled: a border passes by it, which the search's shading
+    /// measures ([`Self::border_distance_at`]).
     #[inline]
     #[must_use]
     pub fn settled_owner(&self, p: DVec2) -> Option<u32> {
@@ -100,13 +101,39 @@ impl CellMap {
         if own == NONE {
             return None;
         }
-        if own & Self::ABSORBED != 0 {
-            return Some(own & !Self::ABSORBED);
-        }
+        let own = own & !Self::ABSORBED;
         self.around(x, y)
             .iter()
             .all(|row| row.iter().all(|&o| o & !Self::ABSORBED == own))
             .then_some(own)
+    }
+
+    /// How far the centre of pixel (`x`, `y`) lies from the map's nearest border, as far as
+    /// its eight neighbours tell: 0.5 when a pixel beside it (left, right, above, below)
+    /// belongs to another cell (the midpoint of the edge between them), `√1.25` when only a
+    /// diagonal one does (the midpoints of the edges beside that pixel), infinite when none
+    /// does. Within 1.5 pixels this is the distance to the nearest midpoint of an edge where
+    /// the cell changes ([`BorderDistances`](super::border_distance::BorderDistances)).
+    #[must_use]
+    pub fn border_distance_at(&self, x: usize, y: usize) -> f32 {
+        let w = self.width;
+        let cell = |nx: usize, ny: usize| self.owners[ny * w + nx] & !Self::ABSORBED;
+        let own = cell(x, y);
+        let (left, right) = (x.saturating_sub(1), (x + 1).min(w - 1));
+        let (up, down) = (y.saturating_sub(1), (y + 1).min(self.height - 1));
+        if [(left, y), (right, y), (x, up), (x, down)]
+            .iter()
+            .any(|&(nx, ny)| cell(nx, ny) != own)
+        {
+            return 0.5;
+        }
+        if [(left, up), (right, up), (left, down), (right, down)]
+            .iter()
+            .any(|&(nx, ny)| cell(nx, ny) != own)
+        {
+            return 1.25f32.sqrt();
+        }
+        f32::INFINITY
     }
 
     /// Whether `site` owns the pixel of `p` or one of its eight neighbours.
@@ -185,18 +212,56 @@ mod tests {
                     let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
                     let own = map.owners[y * w + x];
                     let around = neighbourhood(&map, x, y);
+                    let cell = own & !CellMap::ABSORBED;
                     let want = if own == NONE {
                         None
-                    } else if own & CellMap::ABSORBED != 0 {
-                        Some(own & !CellMap::ABSORBED)
                     } else {
-                        around.iter().all(|&c| c == own).then_some(own)
+                        around.iter().all(|&c| c == cell).then_some(cell)
                     };
                     assert_eq!(map.settled_owner(p), want, "{w}x{h} at ({x}, {y})");
                     // Off the pixel's centre nothing is settled.
                     assert_eq!(map.settled_owner(p + DVec2::new(0.25, 0.0)), None);
                     for site in 0..5 {
                         assert_eq!(map.near(p, site), around.contains(&site), "({x}, {y})");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn border_distances_near_a_pixel_match_brute_force() {
+        // Against the nearest midpoint of every pixel edge where the cell changes: exact
+        // below 1.5 px, infinite beyond.
+        for (w, h) in [(17, 11), (1, 6), (5, 1), (2, 2)] {
+            let map = patchy_map(w, h);
+            let cell = |x: usize, y: usize| map.owners[y * w + x] & !CellMap::ABSORBED;
+            let mut midpoints = Vec::new();
+            for y in 0..h {
+                for x in 0..w {
+                    if x + 1 < w && cell(x, y) != cell(x + 1, y) {
+                        midpoints.push(DVec2::new(x as f64 + 1.0, y as f64 + 0.5));
+                    }
+                    if y + 1 < h && cell(x, y) != cell(x, y + 1) {
+                        midpoints.push(DVec2::new(x as f64 + 0.5, y as f64 + 1.0));
+                    }
+                }
+            }
+            for y in 0..h {
+                for x in 0..w {
+                    let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                    let nearest = midpoints
+                        .iter()
+                        .map(|m| m.distance(centre))
+                        .fold(f64::INFINITY, f64::min);
+                    let got = f64::from(map.border_distance_at(x, y));
+                    if nearest < 1.5 {
+                        assert!(
+                            (got - nearest).abs() < 1e-6,
+                            "({x}, {y}): {got} against {nearest}"
+                        );
+                    } else {
+                        assert_eq!(got, f64::INFINITY, "({x}, {y}): nearest {nearest}");
                     }
                 }
             }

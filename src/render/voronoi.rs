@@ -222,7 +222,7 @@ impl<'a> VoronoiCells<'a> {
     /// The owner of `p` among the candidates of triangle `t`. Where the colour term's cell map
     /// settles the owner
     /// ([`CellMap::settled_owner`](super::cellmap::CellMap::settled_owner): a pixel centre
-    /// inside its cell, or absorbed), only its `D` is computed; the result is
+    /// inside its cell), only its `D` is computed; the result is
     /// [`Self::owner_searched`]'s.
     #[inline]
     #[must_use]
@@ -421,7 +421,9 @@ impl<'a> VoronoiCells<'a> {
 
 /// The owner and runner-up `(site, D²)` at `p` as `term`'s
 /// [`CellMap`](super::cellmap::CellMap) has them: an absorbed
-/// pixel goes to its new cell with no runner-up (no border inside it), and a runner-up that
+/// pixel goes to its new cell with no runner-up (a border beside it is the map's, which the
+/// shading reads: [`CellMap::border_distance_at`](super::cellmap::CellMap::border_distance_at)),
+/// and a runner-up that
 /// owns none of the pixels around `p` (the piece that was there was absorbed) is dropped, so
 /// no border is drawn round a piece that is gone.
 #[inline]
