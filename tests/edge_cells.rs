@@ -362,7 +362,7 @@ fn shading_settled_pixels_without_the_search_gives_the_same_picture() {
                 assert_eq!(o.border_px, f32::INFINITY);
                 colour(p, o)
             });
-            let searched = scene.shade(colour);
+            let searched = scene.shade(1.0, colour);
             assert!(
                 settled == searched,
                 "{name} {w}x{h}, {ss}x{ss}: pictures differ"

@@ -114,7 +114,7 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
     let mut underpainting = None;
     if params.underpaint {
-        let cells = scene.shade(|_, o| scene.colours[o.site as usize]);
+        let cells = scene.shade(0.0, |_, o| scene.colours[o.site as usize]);
         for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(cells.pixels()) {
             let [cr, cg, cb] = rgb.0;
             *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();

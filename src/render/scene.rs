@@ -75,17 +75,19 @@ impl<'a> Scene<'a> {
     ///
     /// The owner is found at the pixel's centre, with the distance to the border between it
     /// and the runner-up ([`Owner::border_px`], from the first-order border function
-    /// `f = δ_j − δ_i`, or `D_j − D_i` with a colour term, whose zero is the border). Where
-    /// the search keeps no runner-up but the colour term's cell map, when its pixels are the
-    /// picture's, has a border beside the pixel, the distance is the map's
-    /// ([`CellMap::border_distance_at`]): every border of the map is drawn.
+    /// `f = δ_j − δ_i`, or `D_j − D_i` with a colour term, whose zero is the border). When
+    /// `colour` draws borders (`border_px`, their widest, above 0) and the colour term's cell
+    /// map has the picture's pixels, the borders drawn are the map's: beside a pixel of
+    /// another cell, that cell is the runner-up and the distance comes from secants of `f`
+    /// between the pixel centres ([`VoronoiCells::map_crossings`]); with another cell only
+    /// diagonally, from the map ([`CellMap::border_distance_at`]).
     /// Supersampling is adaptive: only a pixel that
     /// a border may cross (centre less than [`BORDER_MARGIN_PX`] from it) is shaded at all
     /// `supersample²` points, each owned by whichever side of the linearised border it lies
     /// on. Inside a cell one evaluation suffices: the textures anti-alias themselves over the
     /// pixel's footprint.
     #[must_use]
-    pub fn shade<F>(&self, colour: F) -> RgbImage
+    pub fn shade<F>(&self, border_px: f32, colour: F) -> RgbImage
     where
         F: Fn(DVec2, &Owner) -> Linear + Sync,
     {
@@ -96,7 +98,7 @@ impl<'a> Scene<'a> {
             ..r
         };
         let steps = (r.step(), centres.step());
-        let aligned = self.aligned_map();
+        let aligned = self.aligned_map().filter(|_| border_px > 0.0);
         self.cells
             .shade_rows(&centres, &mut out, 3 * r.width, |y, owners, row| {
                 for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
@@ -107,7 +109,7 @@ impl<'a> Scene<'a> {
     }
 
     /// The colour term's cell map when its pixels are the picture's (a picture at the photo's
-    /// own size): the shading reads its borders where the owner search kept no runner-up.
+    /// own size): the shading draws its borders.
     fn aligned_map(&self) -> Option<&CellMap> {
         let r = self.raster;
         let centres = Raster {
@@ -146,7 +148,7 @@ impl<'a> Scene<'a> {
         I: Fn(DVec2, f64, &Owner) -> Linear + Sync,
     {
         let Some(term) = self.cells.colour() else {
-            return self.shade(colour);
+            return self.shade(border_px, colour);
         };
         let r = self.raster;
         let mut out = vec![0u8; 3 * r.width * r.height];
@@ -163,6 +165,8 @@ impl<'a> Scene<'a> {
         let distances = aligned
             .filter(|_| ink_reach > SETTLED_CLEAR_PX)
             .map(|map| BorderDistances::new(map, ink_reach));
+        // The borders drawn are the map's (see `Self::shade`).
+        let aligned = aligned.filter(|_| border_px > 0.0);
         self.cells.shade_rows_settled(
             &centres,
             &mut out,
@@ -197,10 +201,9 @@ impl<'a> Scene<'a> {
         RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
     }
 
-    /// One pixel (`x`, `y`) of [`Self::shade`] whose centre's owner is `o`, into `px`, its border
-    /// distance read from `map` (the cell map, when its pixels are the picture's:
-    /// [`CellMap::border_distance_at`]) when the search kept no runner-up; `steps` are the
-    /// raster's points' and the pixel centres' steps.
+    /// One pixel (`x`, `y`) of [`Self::shade`] whose centre's owner is `o`, into `px`; `map` is
+    /// the cell map whose borders are drawn ([`Self::shade`]), if any; `steps` are the raster's
+    /// points' and the pixel centres' steps.
     #[inline]
     #[allow(clippy::too_many_arguments)] // one pixel's whole context, in the hot loop
     fn shade_pixel<F>(
@@ -226,6 +229,13 @@ impl<'a> Scene<'a> {
             (y as f64 + 0.5) * centre_step.y,
         );
         let mut o = *o;
+        // At the photo's own size the borders drawn are the cell map's: beside a pixel of
+        // another cell, that cell is the runner-up, and the border lies where the map's
+        // secants put it.
+        let crossings = map.and_then(|m| self.cells.map_crossings(m, (x, y), &o));
+        if let Some(c) = &crossings {
+            (o.second, o.delta2) = (c.second, c.delta2);
+        }
         // The border: f = δ_j − δ_i ≥ 0 on the owner's side, linear to first order.
         let mut gradient = DVec2::ZERO;
         if self.cells.border_distance_at_least(&o) * ppu < BORDER_EXACT_PX {
@@ -235,10 +245,29 @@ impl<'a> Scene<'a> {
                 o.border_px = (f64::from(o.delta2 - o.delta) / len * ppu) as f32;
             }
         }
-        // The cell map's distance where the search kept no runner-up (an absorbed pixel, or
-        // one whose runner-up by `D` owns no pixel around it): every border of the map is
-        // inked. Where it kept one, its first-order distance is the better one this near (the
-        // map's border runs through pixel edges' midpoints).
+        // The secants' distance, across the border: where it crosses both axes, to the line
+        // through both crossings; where it crosses one, along the gradient's direction.
+        let mut f0 = f64::from(o.delta2 - o.delta);
+        if let Some(c) = &crossings {
+            let len = gradient.length();
+            let d = if c.along_x.is_finite() && c.along_y.is_finite() {
+                c.along_x * c.along_y / c.along_x.hypot(c.along_y)
+            } else if len > 0.0 {
+                let (t, cos) = if c.along_x.is_finite() {
+                    (c.along_x, gradient.x.abs() / len)
+                } else {
+                    (c.along_y, gradient.y.abs() / len)
+                };
+                t * cos
+            } else {
+                c.along_x.min(c.along_y)
+            };
+            o.border_px = (d * ppu) as f32;
+            f0 = d * len;
+        }
+        // The cell map's distance where the map has no neighbour of another cell beside the
+        // pixel but one diagonally, and the search kept no runner-up: every border of the
+        // map is inked.
         let map_distance = map
             .filter(|_| o.border_px == f32::INFINITY)
             .map(|m| m.border_distance_at(x, y))
@@ -249,7 +278,6 @@ impl<'a> Scene<'a> {
         // Supersampled where the border with the runner-up may cross the pixel (without one,
         // every point has the same owner and the map's distance).
         let c = if ss > 1 && o.second != NONE && f64::from(o.border_px) < BORDER_MARGIN_PX {
-            let f0 = f64::from(o.delta2 - o.delta);
             let len = gradient.length();
             let weight = 1.0 / (ss * ss) as f32;
             let mut sum = [0.0f32; 3];

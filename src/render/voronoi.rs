@@ -22,6 +22,7 @@ use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
 use rayon::prelude::*;
 
+use super::cellmap::CellMap;
 pub use super::cellmap::NONE;
 pub use super::colour_term::ColourTerm;
 
@@ -43,6 +44,20 @@ pub struct Owner {
     /// [`Scene`](super::Scene) has measured it (infinite otherwise, and when farther than
     /// [`BORDER_EXACT_PX`]).
     pub border_px: f32,
+}
+
+/// Where the cell map's borders cross the lines from a pixel's centre to its neighbours
+/// ([`VoronoiCells::map_crossings`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapCrossings {
+    /// The cell across the nearest crossing.
+    pub second: u32,
+    /// Its `D` at the pixel's centre.
+    pub delta2: f32,
+    /// The nearest crossing along x, in pixels (infinite where none).
+    pub along_x: f64,
+    /// The nearest crossing along y, in pixels (infinite where none).
+    pub along_y: f64,
 }
 
 impl Owner {
@@ -365,6 +380,75 @@ impl<'a> VoronoiCells<'a> {
             g / f64::from(big_d)
         };
         grad(o.second, o.delta2) - grad(o.site, o.delta)
+    }
+
+    /// Where the cell map's borders beside pixel (`x`, `y`) cross the lines to its four
+    /// neighbours (the map is the colour term's, its pixels the picture's; `o` is the owner of
+    /// the pixel's centre `p`): for each neighbour `q` of another cell `k`, the border of
+    /// `f = D_k − D_i` lies a fraction `t = f(p) / (f(p) − f(q))` of the way to `q` (a secant
+    /// through both centres: the photo's colour bends `D` too much for the tangent `f / |∇f|`
+    /// to be trusted a pixel away), or halfway where `f` does not change sign between them (a
+    /// piece absorbed against `D`). Gives the nearest crossing's cell `k`, its `D_k(p)`, and
+    /// the nearest crossings along x and along y (infinite where none), in pixels; `None`
+    /// where the four neighbours are all the owner's.
+    #[must_use]
+    pub fn map_crossings(
+        &self,
+        map: &CellMap,
+        (x, y): (usize, usize),
+        o: &Owner,
+    ) -> Option<MapCrossings> {
+        let term = self.colour?;
+        let (w, h) = map.size();
+        let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+        let big_d = |site: u32, q: DVec2, c: [f32; 3]| {
+            (self.quads[site as usize].delta_squared(q) + term.cost(c, site)).sqrt()
+        };
+        let colour_p = term.colour_only_at(p);
+        let own_p = big_d(o.site, p, colour_p);
+        let mut found: Option<MapCrossings> = None;
+        let neighbours = [
+            (x.checked_sub(1), Some(y), true),
+            ((x + 1 < w).then_some(x + 1), Some(y), true),
+            (Some(x), y.checked_sub(1), false),
+            (Some(x), (y + 1 < h).then_some(y + 1), false),
+        ];
+        for (nx, ny, along_x) in neighbours {
+            let (Some(nx), Some(ny)) = (nx, ny) else {
+                continue;
+            };
+            let k = map.cell(ny * w + nx);
+            if k == o.site || k == NONE {
+                continue;
+            }
+            let q = DVec2::new(nx as f64 + 0.5, ny as f64 + 0.5);
+            let colour_q = term.colour_only_at(q);
+            let k_p = big_d(k, p, colour_p);
+            let (f_p, f_q) = (
+                k_p - own_p,
+                big_d(k, q, colour_q) - big_d(o.site, q, colour_q),
+            );
+            let t = if f_p >= 0.0 && f_q < 0.0 {
+                f_p / (f_p - f_q)
+            } else {
+                0.5
+            };
+            let c = found.get_or_insert(MapCrossings {
+                second: k,
+                delta2: k_p as f32,
+                along_x: f64::INFINITY,
+                along_y: f64::INFINITY,
+            });
+            if t < c.along_x.min(c.along_y) {
+                (c.second, c.delta2) = (k, k_p as f32);
+            }
+            if along_x {
+                c.along_x = c.along_x.min(t);
+            } else {
+                c.along_y = c.along_y.min(t);
+            }
+        }
+        found
     }
 
     /// A lower bound of the distance from a point to the border between its owner and the
