@@ -229,6 +229,12 @@ pub mod salt {
     pub const LIC_NOISE: u64 = 11;
     /// Brightness of a fabric thread dot; the axis (0 or 1) is added.
     pub const FABRIC_THREAD: u64 = 12;
+    /// Red of a pointillist dot.
+    pub const DOT_RED: u64 = 16;
+    /// Green of a pointillist dot.
+    pub const DOT_GREEN: u64 = 17;
+    /// Blue of a pointillist dot.
+    pub const DOT_BLUE: u64 = 18;
 }
 
 /// Knuth's multiplicative hash constant (2³² / φ): spreads consecutive integers over `u32`

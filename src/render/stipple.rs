@@ -11,12 +11,20 @@ use glam::DVec2;
 
 /// Ink coverage (0 to 1) at `local` (domain units in the cell's frame) of the dots of cell
 /// `site`, on a lattice of period `s`, of radius `radius` periods, anti-aliased over a pixel of
-/// `px` domain units.
-pub(super) fn dot_coverage(local: DVec2, site: u32, s: f64, radius: f64, px: f64) -> f32 {
+/// `px` domain units; and the centre (the same units) of the dot that gives it (`local` where
+/// none does).
+pub(super) fn dot_coverage_at(
+    local: DVec2,
+    site: u32,
+    s: f64,
+    radius: f64,
+    px: f64,
+) -> (f32, DVec2) {
     let q = local / s;
     let cell = DVec2::new(floor(q.x), floor(q.y));
     let r = s * radius;
     let mut best: f32 = 0.0;
+    let mut best_centre = local;
     // The dot of this lattice cell and of its neighbours (jitter can reach across). A
     // dot's centre lies in its lattice cell's middle [0.2, 0.8] (jitter ±0.3 periods):
     // a neighbour whose whole box is farther than the dot's reach inks nothing here and
@@ -37,14 +45,17 @@ pub(super) fn dot_coverage(local: DVec2, site: u32, s: f64, radius: f64, px: f64
                 continue;
             }
             let centre = dot_centre(site, c) * s;
-            let cover = ((r - (local - centre).length()) * per_px + 0.5).clamp(0.0, 1.0);
-            best = best.max(cover as f32);
+            let cover = ((r - (local - centre).length()) * per_px + 0.5).clamp(0.0, 1.0) as f32;
+            if cover > best {
+                best = cover;
+                best_centre = centre;
+            }
             if best >= 1.0 {
-                return best;
+                return (best, best_centre);
             }
         }
     }
-    best
+    (best, best_centre)
 }
 
 /// Centre of the stipple dot of lattice cell `c` (in lattice periods) in `site`'s cell: the

@@ -20,7 +20,10 @@ use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
 use super::stipple::{dot_centre, stipple_radius};
-use super::texture::{cell_tones, smoothstep, spacing, texture_frames, TextureKind, TextureParams};
+use super::texture::{
+    cell_tones, dot_jitter, smoothstep, spacing, texture_frames, BlurredPhoto, Ink, TextureKind,
+    TextureParams,
+};
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
@@ -248,7 +251,9 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
 
 /// Writes stippled cells as vector dots: per cell, the raster's jittered lattice in the cell's
 /// frame, every dot a circle of the raster's radius for the cell's tone (so the dots ink the
-/// same share of paper), clipped to the traced cell, in the cell's ink.
+/// same share of paper), clipped to the traced cell, in the cell's ink; pointillist dots
+/// ([`Ink::Pixel`]) each in the blurred photo's colour at its centre, with the raster's
+/// per-dot jitter ([`dot_jitter`]).
 fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     let traced = Traced::new(scene);
     let r = scene.raster;
@@ -262,6 +267,10 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     );
     let tones = cell_tones(&scene.colours, p);
     let frames = texture_frames(scene.cells.metrics(), p, r.domain.length());
+    let blurred = match (p.ink, scene.photo) {
+        (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
+        _ => None,
+    };
     let (mut d, mut dots) = (String::new(), String::new());
     for (i, &(darkness, ink)) in tones.iter().enumerate() {
         if traced.rings[i].is_empty() || darkness <= 0.0 {
@@ -289,11 +298,19 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
                 let q = site + glam::DVec2::new(cos * c.x - sin * c.y, sin * c.x + cos * c.y);
                 let _ = write!(
                     dots,
-                    r#"<circle cx="{}" cy="{}" r="{}"/>"#,
+                    r#"<circle cx="{}" cy="{}" r="{}""#,
                     num((q.x * sx) as f32),
                     num((q.y * sy) as f32),
                     num((radius * k) as f32)
                 );
+                if let (Ink::Pixel(darken), Some(photo)) = (p.ink, &blurred) {
+                    let (jitter, under) = (dot_jitter(i as u32, c), photo.at(q));
+                    let dab: Linear = std::array::from_fn(|j| {
+                        (under[j] * (1.0 - darken) * jitter[j]).clamp(0.0, 1.0)
+                    });
+                    let _ = write!(dots, r#" fill="{}""#, hex(dab));
+                }
+                dots.push_str("/>");
             }
         }
         traced.cell_path(i, &mut d);
