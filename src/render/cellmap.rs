@@ -108,6 +108,41 @@ impl CellMap {
             .then_some(own)
     }
 
+    /// [`Self::settled_at`] for every pixel of row `y`, into `out` (one per column; [`NONE`]
+    /// where a pixel is not settled): the same answers from one pass over the three rows,
+    /// each column's sameness found once for the three pixels that read it.
+    pub fn settled_row(&self, y: usize, out: &mut [u32]) {
+        let w = self.width;
+        let row = |r: usize| &self.owners[r * w..(r + 1) * w];
+        let (above, here, below) = (
+            row(y.saturating_sub(1)),
+            row(y),
+            row((y + 1).min(self.height - 1)),
+        );
+        let cell = |o: u32| o & !Self::ABSORBED;
+        // Whether column x of the three rows is one cell.
+        let column = |x: usize| {
+            let c = cell(here[x]);
+            cell(above[x]) == c && cell(below[x]) == c
+        };
+        let mut left = column(0);
+        let mut centre = left;
+        for x in 0..w {
+            let right = if x + 1 < w { column(x + 1) } else { centre };
+            let own = here[x];
+            let c = cell(own);
+            let beside = |nx: usize| cell(here[nx]) == c;
+            let settled = own != NONE
+                && left
+                && centre
+                && right
+                && beside(x.saturating_sub(1))
+                && beside((x + 1).min(w - 1));
+            out[x] = if settled { c } else { NONE };
+            (left, centre) = (centre, right);
+        }
+    }
+
     /// How far the centre of pixel (`x`, `y`) lies from the map's nearest border, as far as
     /// its eight neighbours tell: 0.5 when a pixel beside it (left, right, above, below)
     /// belongs to another cell (the midpoint of the edge between them), `√1.25` when only a
@@ -219,6 +254,9 @@ mod tests {
                         around.iter().all(|&c| c == cell).then_some(cell)
                     };
                     assert_eq!(map.settled_owner(p), want, "{w}x{h} at ({x}, {y})");
+                    let mut row = vec![0; w];
+                    map.settled_row(y, &mut row);
+                    assert_eq!(Some(row[x]).filter(|&s| s != NONE), want, "row {y}, {x}");
                     // Off the pixel's centre nothing is settled.
                     assert_eq!(map.settled_owner(p + DVec2::new(0.25, 0.0)), None);
                     for site in 0..5 {

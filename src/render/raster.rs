@@ -206,9 +206,7 @@ impl VoronoiCells<'_> {
                     let tris = &tri[k * width..(k + 1) * width];
                     let y = (((first_row + k) as f64) + 0.5) * step.y;
                     if let Some(map) = settle {
-                        for (x, s) in settled.iter_mut().enumerate() {
-                            *s = map.settled_at(x, first_row + k).unwrap_or(NONE);
-                        }
+                        map.settled_row(first_row + k, &mut settled);
                     }
                     for (x, v) in values.iter_mut().enumerate() {
                         if settled.get(x).is_some_and(|&s| s != NONE) {
