@@ -276,35 +276,38 @@ impl<'a> Scene<'a> {
             o.border_px = d;
         }
         // Supersampled where the border with the runner-up may cross the pixel (without one,
-        // every point has the same owner and the map's distance).
-        let c = if ss > 1 && o.second != NONE && f64::from(o.border_px) < BORDER_MARGIN_PX {
-            let len = gradient.length();
-            let weight = 1.0 / (ss * ss) as f32;
-            let mut sum = [0.0f32; 3];
-            for j in 0..ss {
-                for i in 0..ss {
-                    let q = DVec2::new((x * ss + i) as f64 + 0.5, (y * ss + j) as f64 + 0.5) * step;
-                    let f = f0 + gradient.dot(q - centre);
-                    let mut oq = o;
-                    if f < 0.0 {
-                        // Across the border: the runner-up owns this point.
-                        std::mem::swap(&mut oq.site, &mut oq.second);
-                        std::mem::swap(&mut oq.delta, &mut oq.delta2);
-                    }
-                    oq.border_px = (f.abs() / len * ppu) as f32;
-                    if let Some(d) = map_distance {
-                        oq.border_px = oq.border_px.min(d);
-                    }
-                    let c = colour(q, &oq);
-                    for k in 0..3 {
-                        sum[k] += c[k];
+        // or without a direction across it, every point has the same owner and distance).
+        let len = gradient.length();
+        let c =
+            if ss > 1 && o.second != NONE && len > 0.0 && f64::from(o.border_px) < BORDER_MARGIN_PX
+            {
+                let weight = 1.0 / (ss * ss) as f32;
+                let mut sum = [0.0f32; 3];
+                for j in 0..ss {
+                    for i in 0..ss {
+                        let q =
+                            DVec2::new((x * ss + i) as f64 + 0.5, (y * ss + j) as f64 + 0.5) * step;
+                        let f = f0 + gradient.dot(q - centre);
+                        let mut oq = o;
+                        if f < 0.0 {
+                            // Across the border: the runner-up owns this point.
+                            std::mem::swap(&mut oq.site, &mut oq.second);
+                            std::mem::swap(&mut oq.delta, &mut oq.delta2);
+                        }
+                        oq.border_px = (f.abs() / len * ppu) as f32;
+                        if let Some(d) = map_distance {
+                            oq.border_px = oq.border_px.min(d);
+                        }
+                        let c = colour(q, &oq);
+                        for k in 0..3 {
+                            sum[k] += c[k];
+                        }
                     }
                 }
-            }
-            sum.map(|v| v * weight)
-        } else {
-            colour(centre, &o)
-        };
+                sum.map(|v| v * weight)
+            } else {
+                colour(centre, &o)
+            };
         for k in 0..3 {
             px[k] = to_srgb(c[k]);
         }
