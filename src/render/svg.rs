@@ -19,10 +19,9 @@ use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
-use super::stipple::{dot_centre, stipple_radius};
+use super::stipple::{dot_centre, dot_jitter, stipple_radius};
 use super::texture::{
-    cell_tones, dot_jitter, smoothstep, spacing, texture_frames, BlurredPhoto, Ink, TextureKind,
-    TextureParams,
+    cell_tones, smoothstep, spacing, texture_frames, BlurredPhoto, Ink, TextureKind, TextureParams,
 };
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;

@@ -18,7 +18,7 @@ use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear
 use super::mosaic::border_coverage;
 use super::rounding::floor;
 use super::scene::Scene;
-use super::stipple::{dot_coverage_at, stipple_radius};
+use super::stipple::{dot_coverage_at, dot_jitter, stipple_radius};
 use super::voronoi::Owner;
 use glam::DVec2;
 use image::{GrayImage, RgbImage};
@@ -391,35 +391,6 @@ impl BlurredPhoto {
     }
 }
 
-/// Per channel, the factor a pointillist dot (stipple with [`Ink::Pixel`]) of cell `site`
-/// centred at `centre` (domain units in the cell's frame) sets on the photo's colour: within
-/// ±[`DOT_JITTER`], drawn for this dot alone. Neighbouring dots differ a little in colour and
-/// lightness and read as separate dabs, as in divisionist painting; read from the photo alone,
-/// the dots ran together into the photo, with the paper between them as a white crackle. The
-/// raster and the SVG use the same factors.
-#[must_use]
-pub(super) fn dot_jitter(site: u32, centre: DVec2) -> [f32; 3] {
-    let key = dot_key(site, centre);
-    [salt::DOT_RED, salt::DOT_GREEN, salt::DOT_BLUE]
-        .map(|s| 1.0 + DOT_JITTER * (2.0 * site_hash(key, s) - 1.0))
-}
-
-/// How far each channel of a pointillist dot's colour may move from the photo's, as a share of
-/// it: dabs that show at arm's length, while the tone at a viewing distance (luma blurred at
-/// 2 px, `tone.py`) keeps its SSIM within 0.025 of the same dots without it (0.945–0.968
-/// against 0.956–0.978 on the five shared photos).
-const DOT_JITTER: f32 = 0.2;
-
-/// A hash key of the dot centred at `centre` (a cell's frame, domain units) of cell `site`.
-fn dot_key(site: u32, centre: DVec2) -> u32 {
-    // Dot centres are distinct to far better than 1/64 of a domain unit.
-    let (x, y) = (
-        (centre.x * 64.0) as i64 as u32,
-        (centre.y * 64.0) as i64 as u32,
-    );
-    site.wrapping_mul(7919) ^ x.wrapping_mul(73_856_093) ^ y.wrapping_mul(19_349_663)
-}
-
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
 pub(super) fn smoothstep(edge: f32, x: f32) -> f32 {
     if edge <= 0.0 {
@@ -596,39 +567,6 @@ fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn pointillist_dots_each_take_their_own_colour_within_the_jitter() {
-        // Every dot of a cell's lattice: factors within ±DOT_JITTER, the same for the same dot,
-        // spread over most of the range across dots and channels, and the whole dot one colour
-        // (any point of it finds the same dot and so the same factors).
-        let (s, radius, px) = (3.0, 0.45, 1.0);
-        let mut seen = Vec::new();
-        for cy in -4..4 {
-            for cx in -4..4 {
-                let c =
-                    super::super::stipple::dot_centre(7, DVec2::new(f64::from(cx), f64::from(cy)))
-                        * s;
-                let f = dot_jitter(7, c);
-                assert_eq!(f, dot_jitter(7, c));
-                assert!(f.iter().all(|v| (v - 1.0).abs() <= DOT_JITTER), "{f:?}");
-                for offset in [DVec2::ZERO, DVec2::new(0.4, 0.3), DVec2::new(-0.5, 0.2)] {
-                    let (cover, centre) = dot_coverage_at(c + offset, 7, s, radius, px);
-                    if cover >= 1.0 {
-                        assert_eq!(dot_jitter(7, centre), f, "one colour over the dot");
-                    }
-                }
-                seen.extend(f);
-            }
-        }
-        let (lo, hi) = seen
-            .iter()
-            .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
-        assert!(
-            lo < 1.0 - 0.8 * DOT_JITTER && hi > 1.0 + 0.8 * DOT_JITTER,
-            "{lo} to {hi}"
-        );
-    }
 
     #[test]
     fn hatch_layers_are_0_90_and_45_degrees() {
