@@ -101,3 +101,39 @@ fn pointillist_dots_leave_no_crackle_of_paper() {
         );
     }
 }
+
+#[test]
+fn strokes_keep_details_smaller_than_their_cells() {
+    // Strokes as large as the samples paint over what is smaller than a cell (an eye, a
+    // whisker) with the colour of the cell around it; the detail strokes of half and a quarter
+    // their size, laid where the canvas still differs from the photo, bring it back. Measured
+    // on the bundled photo as the shared evaluator `tone.py` does (sRGB luma blurred at
+    // σ = 2 px, PSNR against the photo's): without detail strokes 33.7 dB, with
+    // half-size ones only 35.2, with both levels 37.1.
+    let photo = image::open(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/chelsea.png"))
+        .unwrap()
+        .to_rgb8();
+    let preset = anisopaint::style::load("strokes").unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(7)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
+    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image;
+    let blurred_luma = |img: &RgbImage| {
+        let luma = GrayImage::from_fn(img.width(), img.height(), |x, y| {
+            let p = img.get_pixel(x, y).0;
+            let l = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
+            image::Luma([l.round() as u8])
+        });
+        image::imageops::blur(&luma, 2.0)
+    };
+    let (a, b) = (blurred_luma(&photo), blurred_luma(&img));
+    let mse = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| (f64::from(p.0[0]) - f64::from(q.0[0])).powi(2))
+        .sum::<f64>()
+        / f64::from(a.width() * a.height());
+    let psnr = 10.0 * (255.0f64 * 255.0 / mse).log10();
+    assert!(psnr > 35.5, "blurred luma PSNR {psnr:.2} dB");
+}

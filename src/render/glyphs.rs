@@ -6,7 +6,7 @@
 //! Over a photo, glyphs may stand on a wash of their cell's colour (`ground`), their own
 //! colours solved so that glyph and wash average to the cell's (`placed`); brush strokes are
 //! laid coarse to fine after Hertzmann (1998), finer strokes only where the canvas still
-//! differs from the photo (`Refinement`).
+//! differs from the photo, then strokes half their size where it still does (`refine.rs`).
 
 use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
 use super::raster::Raster;
@@ -83,8 +83,9 @@ pub struct GlyphParams {
     /// solved so that glyph and ground average to the cell's colour (`placed`).
     pub ground: f32,
     /// Brush strokes over a photo: a stroke finer than the broadest third is laid only where
-    /// the canvas still differs from the photo by more than this (mean sRGB distance, 0 to 1;
-    /// 0 lays every stroke). See `Refinement`.
+    /// the canvas still differs from the photo by more than this (mean sRGB distance, 0 to 1),
+    /// and so are the detail strokes of half and a quarter the size; 0 lays every stroke and
+    /// no detail strokes. See `refine.rs`.
     pub refine: f32,
 }
 
@@ -155,7 +156,9 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
     let o = params.outline;
     line.set_color(Color::from_rgba8(o[0], o[1], o[2], 255));
     let glyphs = placed(scene, params);
-    let refine = refinement(scene, params, glyphs.len());
+    let refine = (params.shape == Shape::Brush)
+        .then(|| super::refine::refinement(scene, params.refine, glyphs.len()))
+        .flatten();
     let mut keep = vec![true; glyphs.len()];
     for (k, &(p, m, colour)) in glyphs.iter().enumerate() {
         if let Some(r) = &refine {
@@ -166,36 +169,66 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
                 continue;
             }
         }
-        let e = m.eigen();
-        let (a, b) = (
-            e.l1.abs() * f64::from(params.scale),
-            e.l2.abs() * f64::from(params.scale),
+        draw_glyph(
+            &mut pixmap,
+            params,
+            &line,
+            (p, m, colour),
+            k as u32,
+            (sx, sy),
         );
-        if !(a > 0.0 && b > 0.0 && a.is_finite()) {
-            continue;
-        }
-        let Some(path) = outline(params.shape, a as f32, b as f32) else {
-            continue;
-        };
-        let t = Transform::from_rotate(e.angle.to_degrees() as f32)
-            .post_translate(p.x as f32, p.y as f32)
-            .post_scale(sx as f32, sy as f32);
-        let fill = glyph_paint(params.shape, colour, b as f32, k as u32);
-        pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
-        if params.outline_width > 0.0 {
-            // The stroke width is given in output pixels: undo the scale for it.
-            let s = Stroke {
-                width: params.outline_width / ((sx * sy).sqrt() as f32),
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &line, &s, t, None);
-        }
     }
-    let mut rgb = rgba_to_rgb_in_place(pixmap.take());
     if let (Some(under), Some(_)) = (&underpainting, scene.cells.colour()) {
-        stop_at_edges(&mut rgb, under.as_raw());
+        stop_at_edges(pixmap.data_mut(), under.as_raw());
     }
+    if let Some(r) = &refine {
+        let mut index = glyphs.len() as u32;
+        for level in 1..=super::refine::DETAIL_LEVELS {
+            let details = super::refine::detail_strokes(r, &pixmap, &glyphs, level, (sx, sy));
+            for &glyph in &details {
+                draw_glyph(&mut pixmap, params, &line, glyph, index, (sx, sy));
+                index = index.wrapping_add(1);
+            }
+        }
+    }
+    let rgb = rgba_to_rgb_in_place(pixmap.take());
     RgbImage::from_raw(w, h, rgb).expect("w·h RGB pixels")
+}
+
+/// Draws one glyph (centre, metric, colour; `k` its index, which seeds its bristles) on
+/// `pixmap` at `(sx, sy)` output pixels per domain unit.
+fn draw_glyph(
+    pixmap: &mut Pixmap,
+    params: &GlyphParams,
+    line: &Paint,
+    (p, m, colour): (DVec2, Tensor, Linear),
+    k: u32,
+    (sx, sy): (f64, f64),
+) {
+    let e = m.eigen();
+    let (a, b) = (
+        e.l1.abs() * f64::from(params.scale),
+        e.l2.abs() * f64::from(params.scale),
+    );
+    if !(a > 0.0 && b > 0.0 && a.is_finite()) {
+        return;
+    }
+    let Some(path) = outline(params.shape, a as f32, b as f32) else {
+        return;
+    };
+    let t = Transform::from_rotate(e.angle.to_degrees() as f32)
+        .post_translate(p.x as f32, p.y as f32)
+        .post_scale(sx as f32, sy as f32);
+    let fill = glyph_paint(params.shape, colour, b as f32, k);
+    pixmap.fill_path(&path, &fill, FillRule::Winding, t, None);
+    if params.outline_width > 0.0 {
+        // The stroke width is given in output pixels: undo the scale for it.
+        let s = Stroke {
+            width: params.outline_width / ((sx * sy).sqrt() as f32),
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(&path, line, &s, t, None);
+    }
 }
 
 /// The RGB bytes of opaque RGBA pixels, compacted in the same buffer: a 12 MP canvas is not
@@ -212,96 +245,6 @@ fn rgba_to_rgb_in_place(mut data: Vec<u8>) -> Vec<u8> {
     data
 }
 
-/// Coarse-to-fine painting (Hertzmann, *Painterly Rendering with Curved Brush Strokes of
-/// Multiple Sizes*, 1998): brush strokes, sorted broad first, are laid in [`LAYERS`] layers of
-/// falling size. The first layer is laid whole; a stroke of a later layer is laid only where
-/// the canvas as the layers before left it still differs from the photo by more than
-/// `refine` (mean sRGB distance, 0 to 1, over five points of the stroke's footprint), so fine
-/// strokes go where the picture has detail and broad strokes stay whole where it has none.
-struct Refinement<'a> {
-    /// The photo as 8-bit RGB (borrowed when it is one already: no 36 MB copy at 12 MP).
-    photo: std::borrow::Cow<'a, image::RgbImage>,
-    /// Photo pixels per domain unit.
-    photo_scale: DVec2,
-    /// First glyph index of every layer after the first.
-    starts: Vec<usize>,
-    threshold: f32,
-}
-
-/// Layers of strokes from broad to fine.
-pub const LAYERS: usize = 3;
-
-/// The refinement of `n` glyphs, when they are brush strokes over a photo with `refine` set.
-fn refinement<'a>(scene: &Scene<'a>, params: &GlyphParams, n: usize) -> Option<Refinement<'a>> {
-    let photo = scene.photo?;
-    if params.shape != Shape::Brush || params.refine <= 0.0 || n < LAYERS {
-        return None;
-    }
-    let d = scene.raster.domain;
-    Some(Refinement {
-        photo: super::colour::rgb8(photo),
-        photo_scale: DVec2::new(
-            f64::from(photo.width()) / d.x,
-            f64::from(photo.height()) / d.y,
-        ),
-        starts: (1..LAYERS).map(|l| l * n / LAYERS).collect(),
-        threshold: params.refine,
-    })
-}
-
-impl Refinement<'_> {
-    /// The layer that starts at glyph `k`, if one does (layers after the first).
-    fn layer_starting_at(&self, k: usize) -> Option<usize> {
-        self.starts.iter().position(|&s| s == k)
-    }
-
-    /// Decides which strokes of `layer` are laid, from the canvas before it (in parallel;
-    /// the decisions do not depend on each other, so neither on the thread count).
-    fn choose(
-        &self,
-        canvas: &Pixmap,
-        glyphs: &[(DVec2, Tensor, Linear)],
-        layer: usize,
-        keep: &mut [bool],
-        scale: (f64, f64),
-    ) {
-        let start = self.starts[layer];
-        let end = self.starts.get(layer + 1).copied().unwrap_or(glyphs.len());
-        keep[start..end]
-            .par_iter_mut()
-            .zip(&glyphs[start..end])
-            .for_each(|(keep, (p, m, _))| {
-                *keep = self.error(canvas, *p, m, scale) > self.threshold
-            });
-    }
-
-    /// Mean sRGB distance (0 to 1) between canvas and photo at the centre of a stroke at `p`
-    /// with metric `m` and at half its semi-axes either side.
-    fn error(&self, canvas: &Pixmap, p: DVec2, m: &Tensor, (sx, sy): (f64, f64)) -> f32 {
-        let e = m.eigen();
-        let (u, v) = (e.e1() * (0.5 * e.l1.abs()), e.e2() * (0.5 * e.l2.abs()));
-        let (w, h) = (canvas.width(), canvas.height());
-        let mut total = 0.0f32;
-        for q in [p, p + u, p - u, p + v, p - v] {
-            let cx = ((q.x * sx) as i64).clamp(0, i64::from(w) - 1) as u32;
-            let cy = ((q.y * sy) as i64).clamp(0, i64::from(h) - 1) as u32;
-            let px =
-                ((q.x * self.photo_scale.x) as i64).clamp(0, i64::from(self.photo.width()) - 1);
-            let py =
-                ((q.y * self.photo_scale.y) as i64).clamp(0, i64::from(self.photo.height()) - 1);
-            let c = canvas
-                .pixel(cx, cy)
-                .map_or([0; 3], |c| [c.red(), c.green(), c.blue()]);
-            let f = self.photo.get_pixel(px as u32, py as u32).0;
-            let d2: f32 = (0..3)
-                .map(|k| (f32::from(c[k]) - f32::from(f[k])).powi(2))
-                .sum();
-            total += d2.sqrt() / (255.0 * 3f32.sqrt());
-        }
-        total / 5.0
-    }
-}
-
 /// Strokes stop at edges: where a stroke laid over the underpainting of edge-following cells
 /// differs from the cell under it by more than [`EDGE_STOP`] (sRGB, RMS over channels), it has
 /// crossed an edge from a neighbour of another colour, and the cell shows through again
@@ -310,7 +253,7 @@ impl Refinement<'_> {
 /// of the light ground around it comes back.
 fn stop_at_edges(painted: &mut [u8], under: &[u8]) {
     painted
-        .par_chunks_mut(3)
+        .par_chunks_mut(4)
         .zip(under.par_chunks(3))
         .for_each(|(p, u)| {
             let d2: f32 = (0..3)
@@ -531,59 +474,4 @@ pub fn polygon(shape: Shape, a: f32, b: f32, steps: usize) -> Vec<[f32; 2]> {
             }
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A photo with a flat left half and stripes one pixel wide on the right.
-    fn photo() -> image::RgbImage {
-        image::RgbImage::from_fn(64, 32, |x, _| {
-            if x < 32 || x % 2 == 0 {
-                image::Rgb([200, 120, 60])
-            } else {
-                image::Rgb([20, 20, 90])
-            }
-        })
-    }
-
-    /// A canvas painted the flat colour all over, as broad strokes would leave it.
-    fn broad_canvas() -> Pixmap {
-        let mut canvas = Pixmap::new(64, 32).unwrap();
-        canvas.fill(Color::from_rgba8(200, 120, 60, 255));
-        canvas
-    }
-
-    #[test]
-    fn finer_strokes_go_only_where_the_canvas_still_differs_from_the_photo() {
-        let r = Refinement {
-            photo: std::borrow::Cow::Owned(photo()),
-            photo_scale: DVec2::ONE,
-            starts: vec![1, 3],
-            threshold: 0.06,
-        };
-        let m = Tensor::from_eigen(0.0, 3.0, 1.5);
-        let grey = [0.5; 3];
-        // One broad stroke, then two fine ones on the flat half and two on the stripes.
-        let glyphs = [
-            (DVec2::new(16.0, 16.0), m, grey),
-            (DVec2::new(8.0, 8.0), m, grey),
-            (DVec2::new(20.0, 24.0), m, grey),
-            (DVec2::new(44.0, 8.0), m, grey),
-            (DVec2::new(52.0, 24.0), m, grey),
-        ];
-        let canvas = broad_canvas();
-        let mut keep = vec![true; glyphs.len()];
-        r.choose(&canvas, &glyphs, 0, &mut keep, (1.0, 1.0));
-        r.choose(&canvas, &glyphs, 1, &mut keep, (1.0, 1.0));
-        assert_eq!(keep, [true, false, false, true, true]);
-        // A blank canvas differs from the photo everywhere: every stroke is laid.
-        let blank = Pixmap::new(64, 32).unwrap();
-        let mut keep = vec![false; glyphs.len()];
-        keep[0] = true;
-        r.choose(&blank, &glyphs, 0, &mut keep, (1.0, 1.0));
-        r.choose(&blank, &glyphs, 1, &mut keep, (1.0, 1.0));
-        assert!(keep.iter().all(|&k| k));
-    }
 }

@@ -26,6 +26,7 @@ pub mod outline;
 pub mod pieces;
 pub mod preview;
 pub mod raster;
+mod refine;
 pub mod rounding;
 pub mod scene;
 pub mod sheet;

@@ -118,7 +118,8 @@ pub struct LookSection {
     pub underpaint: Option<bool>,
     /// Glyphs: how much of its cell's colour the ground under a glyph takes (0 to 1).
     pub ground: Option<f32>,
-    /// Brush strokes: the canvas-to-photo difference above which a finer stroke is laid.
+    /// Brush strokes: the canvas-to-photo difference above which a finer stroke, or a detail
+    /// stroke, is laid (0: every stroke, no details).
     pub refine: Option<f32>,
     pub glyph_scale: Option<f32>,
     pub outline_width: Option<f32>,
