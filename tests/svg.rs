@@ -309,7 +309,7 @@ fn engraving_stipple_and_outline_svgs_keep_the_tones() {
     // with its outlines traced over it: each, rasterised finely and averaged in the encoding
     // as the PNG mixes ink and paper, has the PNG's tones.
     for (style, shape, limit) in [
-        // Measured: 0.0064, 0.0092 (the PNG's dots take the photo's colour under each point,
+        // Measured: 0.0064, 0.0112 (the PNG's dots take the photo's colour under each point,
         // the SVG's at their centres; both with the same per-dot jitter), 0.0141.
         ("engraving", "<path d=", 0.015),
         ("pointillist", "<circle", 0.015),

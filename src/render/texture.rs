@@ -72,8 +72,11 @@ pub const BLACK_INK: [u8; 3] = [20, 18, 16];
 /// that reads as an outline beside any of them.
 pub const LEADING_GREY: [u8; 3] = [30, 30, 30];
 
-/// Blur of [`Ink::Pixel`], as a fraction of the photo's diagonal.
-pub const INK_BLUR: f32 = 0.002;
+/// Blur of [`Ink::Pixel`], as a fraction of the photo's diagonal: about half a pixel of a
+/// 512² photo, at most 0.7 px of the reduced image (diagonal ≤ 1024) a larger photo is read
+/// from. At 0.002 the pointillist's faces went soft (edge recall of `tone.py`: camera 0.77,
+/// now 0.88); the per-dot colour shift hides the photo's grain.
+pub const INK_BLUR: f32 = 0.0007;
 
 /// Parameters of the textured looks.
 #[derive(Clone, Debug, PartialEq)]
@@ -230,6 +233,10 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
             if target < lightness(ink) && ink_luminance > 0.0 {
                 let k = crate::field::structure::srgb_to_linear(target) / ink_luminance;
                 ink = ink.map(|v| v * k.clamp(0.0, 1.0));
+                // The ink is the tone: covered whole. (Its lightness read back through the
+                // 8-bit encoding can be a level off the target, which gave a coverage just
+                // short of 1 and single white pixels of paper in black areas.)
+                return (1.0, ink);
             }
             let room = paper - lightness(ink);
             let cover = if room > 1e-3 {
@@ -300,6 +307,9 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             stroke(local, &f, site, colour, params, px)
         } else {
             let cover = match dot {
+                // A tone of solid ink leaves no paper in the gaps of the dots' lattice (their
+                // radius inks every point of the table's sampling of it, not every pixel).
+                Some(_) if darkness >= 1.0 => 1.0,
                 Some((cover, _)) => cover,
                 None => {
                     let centre = scene.cells.positions()[site as usize];
