@@ -140,3 +140,66 @@ fn strokes_keep_details_smaller_than_their_cells() {
     let psnr = 10.0 * (255.0f64 * 255.0 / mse).log10();
     assert!(psnr > 35.5, "blurred luma PSNR {psnr:.2} dB");
 }
+
+#[test]
+fn hatching_follows_the_photos_tone_inside_its_cells() {
+    // Soft dark spots on a light ground. Their cells follow them only roughly: with one tone
+    // per cell (the paper's, `look.cell_tone`), a cell holding a spot's core and some of its
+    // lighter rim hatches their mean; with the photo's tone point by point, the lines swell
+    // towards the core. Seen from afar (blurred at σ = 1.5 px), ground minus core luma,
+    // measured: photo 117.6; one tone per cell 110.2 (pen-hatch) and 110.3 (crosshatch);
+    // point by point 115.6 and 115.8.
+    // Soft dark spots (Gaussian, σ = 5 px, sRGB 200 down to 60) every 32 px.
+    let spot = |x: u32, y: u32| {
+        let (dx, dy) = (f64::from(x % 32) - 15.5, f64::from(y % 32) - 15.5);
+        (-(dx * dx + dy * dy) / 50.0).exp()
+    };
+    let photo = RgbImage::from_fn(W, H, |x, y| {
+        let v = (200.0 - 140.0 * spot(x, y)).round() as u8;
+        image::Rgb([v, v, v])
+    });
+    let contrast = |img: &RgbImage| {
+        let luma = GrayImage::from_fn(W, H, |x, y| {
+            let p = img.get_pixel(x, y).0;
+            let l = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
+            image::Luma([l.round() as u8])
+        });
+        let blurred = image::imageops::blur(&luma, 1.5);
+        let (mut dark, mut light) = ((0.0, 0.0), (0.0, 0.0));
+        for y in 0..H {
+            for x in 0..W {
+                let v = f64::from(blurred.get_pixel(x, y).0[0]);
+                let s = spot(x, y);
+                if s > 0.8 {
+                    dark = (dark.0 + v, dark.1 + 1.0);
+                } else if s < 0.01 {
+                    light = (light.0 + v, light.1 + 1.0);
+                }
+            }
+        }
+        light.0 / light.1 - dark.0 / dark.1
+    };
+    let own = contrast(&photo);
+    for style in ["pen-hatch", "crosshatch"] {
+        let mut found = Vec::new();
+        for cell_tone in ["true", "false"] {
+            let mut preset = anisopaint::style::load(style).unwrap();
+            anisopaint::style::apply_sets(&mut preset, &[format!("look.cell_tone={cell_tone}")])
+                .unwrap();
+            let recipe = Recipe::from_preset(&preset, Default::default(), Some(2)).unwrap();
+            let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
+            let painting = paint_loaded(&loaded, &recipe, Extras::default(), &Silent).unwrap();
+            found.push(contrast(&painting.image));
+        }
+        // Point by point within 3 levels of the photo's contrast; one tone per cell (the
+        // control, which shows the test can tell) more than 5 short.
+        assert!(
+            (own - found[1]).abs() < 3.0,
+            "{style}: {found:.1?} against {own:.1}"
+        );
+        assert!(
+            own - found[0] > 5.0,
+            "{style}: {found:.1?} against {own:.1}"
+        );
+    }
+}

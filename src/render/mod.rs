@@ -20,6 +20,7 @@ pub mod fabric;
 pub mod font;
 pub mod glyphs;
 mod lic_grid;
+mod local_tone;
 pub mod look;
 pub mod mosaic;
 pub mod outline;

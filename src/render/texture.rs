@@ -15,6 +15,7 @@
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
 use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
+use super::local_tone::{LocalTone, ToneGrid};
 use super::mosaic::border_coverage;
 use super::rounding::floor;
 use super::scene::Scene;
@@ -104,6 +105,9 @@ pub struct TextureParams {
     /// flat areas get even hatching that runs on from cell to cell. `None`: they fade (the
     /// paper's Figure 6).
     pub flat_angle: Option<f32>,
+    /// Hatch and cross-hatch over a photo: one tone per cell (the paper's) instead of the
+    /// photo's tone point by point (`local_tone.rs`).
+    pub cell_tone: bool,
 }
 
 impl TextureParams {
@@ -120,6 +124,7 @@ impl TextureParams {
             fade_anisotropy: 0.25,
             border_width: 0.0,
             flat_angle: None,
+            cell_tone: false,
         };
         match kind {
             TextureKind::Stroke => TextureParams {
@@ -263,8 +268,19 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     let paper = linear_of(params.paper);
     let border_width = scene.border_px(params.border_width);
     let px = 1.0 / scene.pixels_per_unit;
+    // Hatched cells over a photo take their tone point by point (`local_tone.rs`).
+    let local_tone = match (&params.kind, scene.photo) {
+        (TextureKind::Hatch | TextureKind::CrossHatch, Some(_)) if !params.cell_tone => {
+            Some(LocalTone::new(&cell_tones(&LocalTone::greys(), params)))
+        }
+        _ => None,
+    };
     let blurred = match (params.ink, scene.photo) {
         (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
+        _ => None,
+    };
+    let tone_grid = match (&local_tone, scene.photo) {
+        (Some(tone), Some(photo)) => Some(BlurredPhoto::new(photo).tone_grid(tone)),
         _ => None,
     };
     // Per cell, once: how much of the texture shows (flat cells take their tone) and the
@@ -283,7 +299,10 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         // Domain units along the long (x) and short (y) axes.
         let local = DVec2::new(f.cos * d.x + f.sin * d.y, -f.sin * d.x + f.cos * d.y);
         let colour = scene.colours[site as usize];
-        let (darkness, cell_ink) = tones[site as usize];
+        let (mut darkness, cell_ink) = tones[site as usize];
+        if let Some(grid) = &tone_grid {
+            darkness = grid.at(p);
+        }
         // The ink, read from the photo only where some is laid.
         let ink = || match (params.ink, &blurred) {
             (Ink::Pixel(k), Some(b)) => b.at(p).map(|v| v * (1.0 - k)),
@@ -382,6 +401,16 @@ impl BlurredPhoto {
             image,
             factor: factor as f64,
         }
+    }
+
+    /// The coverage `tone` gives each of its pixels.
+    pub(super) fn tone_grid(&self, tone: &LocalTone) -> ToneGrid {
+        tone.grid(
+            &self.image.data,
+            self.image.width,
+            self.image.height,
+            self.factor,
+        )
     }
 
     /// The colour at domain point `p` (photo pixels), bilinear in the reduced image, clamped
@@ -488,7 +517,13 @@ fn coverage(
             } else {
                 3
             };
-            let x = 1.0 - (1.0 - darkness).powf(1.0 / k as f32);
+            // (Roots, not `powf`: the tone is read point by point, and `powf` was 5 % of a
+            // 12 MP cross-hatching.)
+            let x = match k {
+                1 => darkness,
+                2 => 1.0 - (1.0 - darkness).sqrt(),
+                _ => 1.0 - (1.0 - darkness).cbrt(),
+            };
             let s = spacing(f.b, p, px);
             let mut paper_left = 1.0;
             for &layer in LAYERS.iter().take(k) {

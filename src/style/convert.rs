@@ -273,6 +273,7 @@ impl Preset {
         if let Some(a) = l.flat_angle {
             p.flat_angle = Some(ranged("look.flat_angle", Some(a), a, (-360.0, 360.0))?);
         }
+        p.cell_tone = l.cell_tone.unwrap_or(p.cell_tone);
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
         }

@@ -60,6 +60,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.fade_anisotropy = Some(p.fade_anisotropy);
             look.border_width = Some(p.border_width);
             look.flat_angle = p.flat_angle;
+            look.cell_tone = Some(p.cell_tone);
             look.paper = Some(hex(p.paper));
             let (ink, darken) = match p.ink {
                 Ink::Fixed(c) if c == BLACK_INK => ("black".to_string(), None),

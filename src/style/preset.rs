@@ -134,6 +134,9 @@ pub struct LookSection {
     pub edge_break: Option<f32>,
     /// Engraving: direction of the lines where the field has none (degrees).
     pub flat_angle: Option<f32>,
+    /// Hatch and cross-hatch over a photo: one tone per cell (the paper's), instead of the
+    /// photo's tone point by point.
+    pub cell_tone: Option<bool>,
     /// Engraving: lightness of a field without a photo.
     pub tone: Option<f32>,
     /// Ink of the outlines along the photo's edges, 0 (none) to 1; any look.
@@ -324,6 +327,7 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             line_spacing: o.line_spacing.or(b.line_spacing),
             edge_break: o.edge_break.or(b.edge_break),
             flat_angle: o.flat_angle.or(b.flat_angle),
+            cell_tone: o.cell_tone.or(b.cell_tone),
             tone: o.tone.or(b.tone),
             outlines: o.outlines.or(b.outlines),
             outline_scale: o.outline_scale.or(b.outline_scale),
