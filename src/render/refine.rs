@@ -2,9 +2,9 @@
 //! Brush Strokes of Multiple Sizes*, 1998): the samples' strokes, sorted broad first, are laid
 //! in [`LAYERS`] layers of falling size, a stroke of a later layer only where the canvas as the
 //! layers before left it still differs from the photo ([`Refinement`]); then, as the paper's
-//! finest brush, strokes half a sample's size at each quarter of a stroke's footprint where the
-//! canvas, after the strokes stopped at edges, still differs ([`detail_strokes`]), in the
-//! photo's colour at that point. Eyes, nostrils and thin dark lines smaller than a sample's
+//! finer brushes, strokes of half and of a quarter a sample's size, at the quarters of a
+//! stroke's footprint and at theirs, where the canvas, after the strokes stopped at edges,
+//! still differs ([`detail_strokes`]), in the photo's colour at their point. Eyes, nostrils and thin dark lines smaller than a sample's
 //! ellipse, which the samples' strokes paint over with the colour of the cell around them,
 //! come back as small strokes along the same field.
 
@@ -28,7 +28,7 @@ pub(super) struct Refinement<'a> {
     photo_scale: DVec2,
     /// First glyph index of every layer after the first.
     starts: Vec<usize>,
-    pub(super) threshold: f32,
+    threshold: f32,
 }
 
 /// Layers of strokes from broad to fine.
@@ -85,7 +85,7 @@ impl Refinement<'_> {
 
     /// Mean sRGB distance (0 to 1) between canvas and photo at the centre of a stroke at `p`
     /// with metric `m` and at half its semi-axes either side.
-    pub(super) fn error(&self, canvas: &Pixmap, p: DVec2, m: &Tensor, scale: (f64, f64)) -> f32 {
+    fn error(&self, canvas: &Pixmap, p: DVec2, m: &Tensor, scale: (f64, f64)) -> f32 {
         let total: f32 = footprint(p, m)
             .iter()
             .map(|&q| srgb_distance(canvas_at(canvas, q, scale), self.photo_at(q)))
@@ -130,7 +130,7 @@ impl Refinement<'_> {
     }
 
     /// The photo's mean sRGB colour over the 3 × 3 pixels around `p` (domain units).
-    pub(super) fn photo_mean(&self, p: DVec2) -> [u8; 3] {
+    fn photo_mean(&self, p: DVec2) -> [u8; 3] {
         let (w, h) = (
             i64::from(self.photo.width()),
             i64::from(self.photo.height()),
@@ -155,7 +155,7 @@ impl Refinement<'_> {
 }
 
 /// A detail stroke's ellipse relative to the stroke it refines (per axis).
-pub(super) const DETAIL_SIZE: f64 = 0.5;
+const DETAIL_SIZE: f64 = 0.5;
 
 /// Levels of detail strokes, each [`DETAIL_SIZE`] the size of the one before.
 pub(super) const DETAIL_LEVELS: u32 = 2;
