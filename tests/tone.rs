@@ -1,8 +1,9 @@
-//! Tone reproduction of the ink and stipple looks, on a picture whose answer is known: a ramp of
-//! lightness from black to white, hatched and seen from afar (blurred at σ = 4 px, averaged
-//! down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1 scale)
-//! after the tone curve its preset asks for (`look.gamma`: lightness `1 − (1 − L)^γ`), light
-//! areas paper, dark ones dense.
+//! Tone reproduction of the ink, stipple and stroke looks, on pictures whose answer is known. A
+//! ramp of lightness from black to white, hatched and seen from afar (blurred at σ = 4 px,
+//! averaged down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1
+//! scale) after the tone curve its preset asks for (`look.gamma`: lightness `1 − (1 − L)^γ`),
+//! light areas paper, dark ones dense. Flat tones stipple without paper showing through; soft
+//! spots keep their depth in hatching; strokes keep what is smaller than their cells.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -148,8 +149,8 @@ fn hatching_follows_the_photos_tone_inside_its_cells() {
     // lighter rim hatches their mean; with the photo's tone point by point, the lines swell
     // towards the core. Seen from afar (blurred at σ = 1.5 px), ground minus core luma,
     // measured: photo 117.6; one tone per cell 110.2 (pen-hatch) and 110.3 (crosshatch);
-    // point by point 115.6 and 115.8.
-    // Soft dark spots (Gaussian, σ = 5 px, sRGB 200 down to 60) every 32 px.
+    // point by point 115.6 and 115.8. The spots: Gaussian, σ = 5 px, sRGB 200 down to 60,
+    // every 32 px.
     let spot = |x: u32, y: u32| {
         let (dx, dy) = (f64::from(x % 32) - 15.5, f64::from(y % 32) - 15.5);
         (-(dx * dx + dy * dy) / 50.0).exp()
