@@ -1,17 +1,14 @@
 //! Tone point by point for the hatched looks (paper section 6's textured cells, with lines
 //! that follow the photo inside a cell): the coverage `texture::cell_tones` gives a cell of
 //! the photo's colour at each point, read from the photo blurred as the pixel ink is
-//! (`texture::INK_BLUR`). Lines keep their cell's direction and spacing and swell and thin
+//! (`blurred_photo::INK_BLUR`). Lines keep their cell's direction and spacing and swell and thin
 //! with the tone under them, as an engraver's do, so an eye or a nostril inside a cell of skin
 //! is drawn in darker lines, not in the cell's one width. The coverage depends only on the
 //! colour's luminance `Y` (the ink is fixed): a table over `√Y` (denser in the dark tones,
-//! where the eye tells tones apart) is built once per picture, and read once per pixel of the
-//! reduced photo ([`ToneGrid`], bilinear at the picture's points: reading the colour and the
-//! table at every point of a 12 MP cross-hatching cost 0.17 s). `f32` for tones, `f64` for
-//! positions.
+//! where the eye tells tones apart) is built once per picture and read once per pixel of the
+//! reduced photo (`blurred_photo::ToneGrid`, bilinear at the picture's points). `f32`.
 
-use super::colour::{bilinear, luminance, Linear};
-use glam::DVec2;
+use super::colour::{luminance, Linear};
 use rayon::prelude::*;
 
 /// Entries of the table over `√Y`.
@@ -54,44 +51,13 @@ impl LocalTone {
     }
 }
 
-/// The coverage of every pixel of the reduced, blurred photo, read bilinearly.
-pub(super) struct ToneGrid {
-    coverage: Vec<f32>,
-    width: usize,
-    height: usize,
-    /// Photo pixels per grid pixel.
-    factor: f64,
-}
-
 impl LocalTone {
-    /// The grid of `rgb` (linear, three `f32` per pixel, `width` × `height`, each pixel
-    /// `factor` photo pixels wide).
+    /// The coverage of every pixel of `rgb` (linear, three `f32` per pixel).
     #[must_use]
-    pub(super) fn grid(&self, rgb: &[f32], width: usize, height: usize, factor: f64) -> ToneGrid {
-        let coverage = rgb
-            .par_chunks_exact(3)
+    pub(super) fn coverages(&self, rgb: &[f32]) -> Vec<f32> {
+        rgb.par_chunks_exact(3)
             .map(|c| self.at([c[0], c[1], c[2]]))
-            .collect();
-        ToneGrid {
-            coverage,
-            width,
-            height,
-            factor,
-        }
-    }
-}
-
-impl ToneGrid {
-    /// The coverage at domain point `p` (photo pixels), bilinear, clamped at the edges.
-    #[inline]
-    #[must_use]
-    pub(super) fn at(&self, p: DVec2) -> f32 {
-        let (w, h) = (self.width, self.height);
-        let x = (p.x / self.factor - 0.5).clamp(0.0, (w - 1) as f64);
-        let y = (p.y / self.factor - 0.5).clamp(0.0, (h - 1) as f64);
-        bilinear(x, y, |xi, yi| {
-            [self.coverage[yi.min(h as i64 - 1) as usize * w + xi.min(w as i64 - 1) as usize]]
-        })[0]
+            .collect()
     }
 }
 

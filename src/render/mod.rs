@@ -9,6 +9,7 @@
 //! with rayon, at any output size: the cells are resolution independent. Imports go one way:
 //! `look` → the looks → `scene` → `raster` → `voronoi`, and `cells` → `raster`, `voronoi`.
 
+mod blurred_photo;
 pub mod border_distance;
 pub mod buffer;
 pub mod cellmap;

@@ -250,14 +250,20 @@ mod tests {
         canvas
     }
 
+    /// A refinement of `photo` (one pixel per domain unit) with layers from `starts`, at the
+    /// strokes preset's threshold.
+    fn refinement_of(photo: image::RgbImage, starts: Vec<usize>) -> Refinement<'static> {
+        Refinement {
+            photo: std::borrow::Cow::Owned(photo),
+            photo_scale: DVec2::ONE,
+            starts,
+            threshold: 0.06,
+        }
+    }
+
     #[test]
     fn finer_strokes_go_only_where_the_canvas_still_differs_from_the_photo() {
-        let r = Refinement {
-            photo: std::borrow::Cow::Owned(photo()),
-            photo_scale: DVec2::ONE,
-            starts: vec![1, 3],
-            threshold: 0.06,
-        };
+        let r = refinement_of(photo(), vec![1, 3]);
         let m = Tensor::from_eigen(0.0, 3.0, 1.5);
         let grey = [0.5; 3];
         // One broad stroke, then two fine ones on the flat half and two on the stripes.
@@ -305,12 +311,7 @@ mod tests {
             paint.set_color(Color::from_rgba8(c[0], c[1], c[2], 255));
             canvas.fill_rect(rect, &paint, tiny_skia::Transform::identity(), None);
         }
-        let r = Refinement {
-            photo: std::borrow::Cow::Owned(photo),
-            photo_scale: DVec2::ONE,
-            starts: vec![1, 2],
-            threshold: 0.06,
-        };
+        let r = refinement_of(photo, vec![1, 2]);
         let m = Tensor::from_eigen(0.0, 8.0, 4.0);
         let grey = [0.5; 3];
         let glyphs = [

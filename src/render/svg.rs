@@ -13,6 +13,7 @@
 //!
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
 
+use super::blurred_photo::BlurredPhoto;
 use super::colour::{linear_of, mix, to_srgb, Linear};
 use super::engrave::{engrave, EngravingParams};
 use super::glyphs::{GlyphParams, Shape};
@@ -21,7 +22,7 @@ use super::raster::label_map;
 use super::scene::Scene;
 use super::stipple::{dot_centre, dot_jitter, stipple_radius};
 use super::texture::{
-    cell_tones, smoothstep, spacing, texture_frames, BlurredPhoto, Ink, TextureKind, TextureParams,
+    cell_tones, smoothstep, spacing, texture_frames, Ink, TextureKind, TextureParams,
 };
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;

@@ -14,8 +14,10 @@
 //! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
+use super::blurred_photo::BlurredPhoto;
+pub use super::blurred_photo::INK_BLUR;
 use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
-use super::local_tone::{LocalTone, ToneGrid};
+use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
 use super::rounding::floor;
 use super::scene::Scene;
@@ -72,12 +74,6 @@ pub const BLACK_INK: [u8; 3] = [20, 18, 16];
 /// The leading of textured cells whose ink changes from cell to cell: a neutral dark grey
 /// that reads as an outline beside any of them.
 pub const LEADING_GREY: [u8; 3] = [30, 30, 30];
-
-/// Blur of [`Ink::Pixel`], as a fraction of the photo's diagonal: about half a pixel of a
-/// 512² photo, at most 0.7 px of the reduced image (diagonal ≤ 1024) a larger photo is read
-/// from. At 0.002 the pointillist's faces went soft (edge recall of `tone.py`: camera 0.77,
-/// now 0.88); the per-dot colour shift hides the photo's grain.
-pub const INK_BLUR: f32 = 0.0007;
 
 /// Parameters of the textured looks.
 #[derive(Clone, Debug, PartialEq)]
@@ -375,59 +371,6 @@ fn mix_encoded(a: Linear, b: Linear, t: f32) -> Linear {
         // Round half up of a value in [0, 255] (no libm call; the same as `round` there).
         super::colour::to_linear((e.clamp(0.0, 255.0) + 0.5) as u8)
     })
-}
-
-/// The photo in linear light at a reduced resolution, blurred, for [`Ink::Pixel`].
-pub(super) struct BlurredPhoto {
-    image: crate::field::structure::LinearImage,
-    factor: f64,
-}
-
-impl BlurredPhoto {
-    pub(super) fn new(photo: &image::DynamicImage) -> Self {
-        use crate::field::structure::{analysis_factor, linear_analysis_image};
-        let (w, h) = (photo.width() as usize, photo.height() as usize);
-        let factor = analysis_factor(w, h, 1024);
-        let mut image = linear_analysis_image(photo, factor);
-        let diagonal = ((image.width * image.width + image.height * image.height) as f32).sqrt();
-        crate::field::blur::gaussian_blur_parallel_mut(
-            &mut image.data,
-            image.width,
-            image.height,
-            3,
-            INK_BLUR * diagonal,
-        );
-        BlurredPhoto {
-            image,
-            factor: factor as f64,
-        }
-    }
-
-    /// The coverage `tone` gives each of its pixels.
-    pub(super) fn tone_grid(&self, tone: &LocalTone) -> ToneGrid {
-        tone.grid(
-            &self.image.data,
-            self.image.width,
-            self.image.height,
-            self.factor,
-        )
-    }
-
-    /// The colour at domain point `p` (photo pixels), bilinear in the reduced image, clamped
-    /// at its edges.
-    pub(super) fn at(&self, p: DVec2) -> Linear {
-        let (w, h) = (self.image.width, self.image.height);
-        let x = (p.x / self.factor - 0.5).clamp(0.0, (w - 1) as f64);
-        let y = (p.y / self.factor - 0.5).clamp(0.0, (h - 1) as f64);
-        bilinear(x, y, |xi, yi| {
-            let i = 3 * (yi.min(h as i64 - 1) as usize * w + xi.min(w as i64 - 1) as usize);
-            [
-                self.image.data[i],
-                self.image.data[i + 1],
-                self.image.data[i + 2],
-            ]
-        })
-    }
 }
 
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
