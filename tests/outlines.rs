@@ -1,9 +1,10 @@
 //! Outlines (flow-based difference of Gaussians) on pictures whose answer is known: a black
 //! disc on white gets a closed line along its rim and nothing inside or far outside; a flat
-//! picture gets no line at all; the ink looks draw their outlines over the hatching.
+//! picture gets no line at all; the ink looks draw their outlines over the hatching; a red
+//! disc's outline is drawn in the ink asked for, or in the photo's red.
 
 use anisopaint::input::photo_field;
-use anisopaint::render::outline::{line_map, OutlineParams};
+use anisopaint::render::outline::{draw_outlines, line_map, OutlineParams};
 use image::{DynamicImage, RgbImage};
 
 const SIDE: u32 = 200;
@@ -125,4 +126,67 @@ fn ink_looks_draw_outlines_over_their_hatching() {
     assert!(rim_with < 90.0, "the rim is not dark: {rim_with}");
     let far = |img: &RgbImage| ring_mean(img, RADIUS + 15.0, RADIUS + 30.0);
     assert!((far(&with) - far(&without)).abs() < 1.0);
+}
+
+#[test]
+fn outlines_take_their_ink_or_the_photos_colour_under_them() {
+    // A red disc on white, outlined on a white canvas: in a fixed ink the rim is that ink; in
+    // `pixel` ink it is the photo's red (the line lies on the disc's side of the rim), and a
+    // preset naming neither fails on the key.
+    let red = [200u8, 40, 40];
+    let c = f64::from(SIDE) / 2.0;
+    let photo = DynamicImage::ImageRgb8(RgbImage::from_fn(SIDE, SIDE, |x, y| {
+        let r = (f64::from(x) + 0.5 - c).hypot(f64::from(y) + 0.5 - c);
+        image::Rgb(if r < RADIUS { red } else { [255, 255, 255] })
+    }));
+    let loaded = photo_field(photo.clone(), &Default::default());
+    let outlined = |ink: &str| {
+        let mut preset = anisopaint::style::load("mosaic").unwrap();
+        let sets = [
+            "look.outlines=1".to_string(),
+            format!("look.outline_ink={ink}"),
+        ];
+        anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
+        let params = preset.outline().unwrap();
+        let mut canvas = RgbImage::from_pixel(SIDE, SIDE, image::Rgb([255, 255, 255]));
+        draw_outlines(
+            &mut canvas,
+            &photo,
+            &loaded.raw,
+            loaded.metric.domain(),
+            &params,
+        );
+        canvas
+    };
+    // The most inked pixel of the rim's inner band, and its colour.
+    let darkest_on_rim = |img: &RgbImage| {
+        img.enumerate_pixels()
+            .filter(|(x, y, _)| {
+                let r = (f64::from(*x) + 0.5 - c).hypot(f64::from(*y) + 0.5 - c);
+                r > RADIUS - 4.0 && r < RADIUS
+            })
+            .map(|(_, _, p)| p.0)
+            .min_by_key(|p| p.iter().map(|&v| u32::from(v)).sum::<u32>())
+            .unwrap()
+    };
+    let blue = darkest_on_rim(&outlined("#2040c0"));
+    assert!(blue[2] > 150 && blue[0] < 60, "a blue ink drew {blue:?}");
+    let own = darkest_on_rim(&outlined("pixel"));
+    let off = (0..3)
+        .map(|k| (i32::from(own[k]) - i32::from(red[k])).abs())
+        .max()
+        .unwrap();
+    // The line's ink is just under full there, so a little of the white canvas shows
+    // (measured: [203, 50, 50]).
+    assert!(
+        off <= 16,
+        "the pixel ink drew {own:?}, the photo is {red:?}"
+    );
+    let mut preset = anisopaint::style::load("mosaic").unwrap();
+    anisopaint::style::apply_sets(&mut preset, &["look.outline_ink=photo".to_string()]).unwrap();
+    let err = preset.outline().unwrap_err().to_string();
+    assert!(
+        err.contains("look.outline_ink") && err.contains("pixel"),
+        "{err}"
+    );
 }

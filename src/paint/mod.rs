@@ -20,6 +20,7 @@ use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
 use crate::render::outline::{draw_outlines, outline_mask, OutlineParams};
+use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
@@ -240,7 +241,17 @@ fn add_svg_outlines(
     }
     let (w, h) = (size.width, size.height);
     let mask = outline_mask(photo, &loaded.raw, loaded.metric.domain(), (w, h), params);
-    let shapes = crate::render::svg::outlines(&mask, w, h, params.ink, params.strength);
+    // One shape set in the ink, or every piece of the lines in the photo's mean colour under it.
+    let (labels, inks) = match params.ink {
+        OutlineInk::Colour(ink) => (mask.iter().map(|&m| m - 1).collect(), vec![ink]),
+        OutlineInk::Pixel => {
+            let (labels, count) = outline_ink::pieces(&mask, w, h);
+            let photo_ink = PhotoInk::new(photo, (w, h));
+            let inks = outline_ink::piece_colours(&labels, count, &photo_ink, w);
+            (labels, inks)
+        }
+    };
+    let shapes = crate::render::svg::outlines(&labels, w, h, &inks, params.strength);
     if let Some(end) = svg.rfind("</svg>") {
         svg.insert_str(end, &shapes);
     }

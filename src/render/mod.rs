@@ -25,6 +25,7 @@ mod local_tone;
 pub mod look;
 pub mod mosaic;
 pub mod outline;
+pub mod outline_ink;
 pub mod pieces;
 pub mod preview;
 pub mod raster;

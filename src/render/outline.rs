@@ -11,6 +11,7 @@
 //! 1536 px), so lines keep their width relative to the picture at any photo size; the line
 //! map is then read bilinearly at every output pixel. Lightness and responses are `f32`.
 
+use super::outline_ink::{OutlineInk, PhotoInk};
 use crate::field::blur::round_to_byte;
 use crate::field::TensorField;
 use image::{DynamicImage, RgbImage};
@@ -23,8 +24,8 @@ pub struct OutlineParams {
     pub strength: f32,
     /// Width of the lines relative to the default (σ_c of one analysis pixel).
     pub scale: f32,
-    /// Ink colour, sRGB.
-    pub ink: [u8; 3],
+    /// What the lines are drawn in: one ink, or the photo's colour under them.
+    pub ink: OutlineInk,
 }
 
 impl Default for OutlineParams {
@@ -32,7 +33,7 @@ impl Default for OutlineParams {
         OutlineParams {
             strength: 0.0,
             scale: 1.0,
-            ink: [24, 20, 18],
+            ink: OutlineInk::Colour([24, 20, 18]),
         }
     }
 }
@@ -228,7 +229,7 @@ impl QuietTiles {
 }
 
 /// Lays the outlines of `photo` over `image`, the painting at any size of `domain` (the
-/// photo's size in domain units).
+/// photo's size in domain units), in `params.ink` ([`OutlineInk`]).
 pub fn draw_outlines(
     image: &mut RgbImage,
     photo: &DynamicImage,
@@ -242,7 +243,11 @@ pub fn draw_outlines(
     let lines = line_map(photo, tensor, params);
     let (w, h) = (image.width() as usize, image.height() as usize);
     let map = PictureGrid::new(tensor, domain, (w, h));
-    let ink = params.ink.map(f32::from);
+    let photo_ink = (params.ink == OutlineInk::Pixel).then(|| PhotoInk::new(photo, (w, h)));
+    let one_ink = match params.ink {
+        OutlineInk::Colour(c) => c.map(f32::from),
+        OutlineInk::Pixel => [0.0; 3],
+    };
     image
         .as_mut()
         .par_chunks_mut(3 * w)
@@ -252,6 +257,7 @@ pub fn draw_outlines(
             for (x, px) in row.chunks_exact_mut(3).enumerate() {
                 let a = params.strength * map.value(&lines, &across, x);
                 if a > 0.0 {
+                    let ink = photo_ink.as_ref().map_or(one_ink, |p| p.at(x, y));
                     for k in 0..3 {
                         let v = f32::from(px[k]);
                         px[k] = round_to_byte(v + (ink[k] - v) * a);

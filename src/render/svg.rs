@@ -325,30 +325,40 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     }
 }
 
-/// The outlines as vector shapes, to go over a look's SVG: `mask` (output pixels, row-major,
-/// 1 where the outlines' ink is at least half) traced and simplified like the cells, filled
-/// with `ink` at `opacity` (their strength).
+/// The outlines as vector shapes, to go over a look's SVG: `labels` (output pixels,
+/// row-major: where the outlines' ink is at least half, the index of the ink in `inks`, −1
+/// elsewhere) traced and simplified like the cells, each label's shapes filled with its ink at
+/// `opacity` (their strength).
 #[must_use]
-pub fn outlines(mask: &[i32], width: usize, height: usize, ink: [u8; 3], opacity: f32) -> String {
-    let borders = Borders::trace(mask, width, height);
+pub fn outlines(
+    labels: &[i32],
+    width: usize,
+    height: usize,
+    inks: &[[u8; 3]],
+    opacity: f32,
+) -> String {
+    let borders = Borders::trace(labels, width, height);
     let simplified: Vec<Vec<[f32; 2]>> = borders
         .chains
         .iter()
         .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
         .collect();
-    let rings = rings(&borders, &simplified, 2);
-    let mut d = String::new();
-    for ring in &rings[1] {
-        path_data(&mut d, ring, true);
+    let mut out = String::new();
+    for (ring_set, &ink) in rings(&borders, &simplified, inks.len()).iter().zip(inks) {
+        let mut d = String::new();
+        for ring in ring_set {
+            path_data(&mut d, ring, true);
+        }
+        if !d.is_empty() {
+            let _ = writeln!(
+                out,
+                "<path fill=\"{}\" fill-opacity=\"{}\" fill-rule=\"evenodd\" d=\"{d}\"/>",
+                hex(linear_of(ink)),
+                opacity.clamp(0.0, 1.0)
+            );
+        }
     }
-    if d.is_empty() {
-        return String::new();
-    }
-    format!(
-        "<path fill=\"{}\" fill-opacity=\"{}\" fill-rule=\"evenodd\" d=\"{d}\"/>\n",
-        hex(linear_of(ink)),
-        opacity.clamp(0.0, 1.0)
-    )
+    out
 }
 
 /// Appends the lines `n·q = k·spacing` (n the normal of direction `angle`, q in domain units)

@@ -13,6 +13,7 @@ use crate::render::fabric::FabricParams;
 use crate::render::glyphs::{GlyphParams, Placement, Shape};
 use crate::render::mosaic::MosaicParams;
 use crate::render::outline::OutlineParams;
+use crate::render::outline_ink::OutlineInk;
 use crate::render::texture::{Ink, TextureKind, TextureParams, BLACK_INK};
 use crate::render::Look;
 use crate::sampling::{SamplerParams, Seeding};
@@ -170,15 +171,26 @@ impl Preset {
         })
     }
 
-    /// The outlines over the look: `look.outlines` (ink, 0 to 1, default none) and
-    /// `look.outline_scale` (line width, 0.25 to 4).
+    /// The outlines over the look: `look.outlines` (ink, 0 to 1, default none),
+    /// `look.outline_scale` (line width, 0.25 to 4) and `look.outline_ink` (`#rrggbb`, or
+    /// `pixel` for the photo's colour under the lines).
     pub fn outline(&self) -> Result<OutlineParams> {
         let l = &self.file.look;
         let d = OutlineParams::default();
+        let ink = match l.outline_ink.as_deref() {
+            None => d.ink,
+            Some(OutlineInk::PIXEL) => OutlineInk::Pixel,
+            Some(c) => OutlineInk::Colour(colour("look.outline_ink", c).map_err(|_| {
+                Error::param(
+                    "look.outline_ink",
+                    format!("{c}: expected #rrggbb or {}", OutlineInk::PIXEL),
+                )
+            })?),
+        };
         Ok(OutlineParams {
             strength: ranged("look.outlines", l.outlines, d.strength, UNIT)?,
             scale: ranged("look.outline_scale", l.outline_scale, d.scale, (0.25, 4.0))?,
-            ..d
+            ink,
         })
     }
 

@@ -7,6 +7,7 @@
 use super::preset::{LookSection, MetricSection, Preset, PresetFile, SamplerSection};
 use crate::error::{Error, Result};
 use crate::render::glyphs::{Placement, Shape};
+use crate::render::outline_ink::OutlineInk;
 use crate::render::texture::{Ink, BLACK_INK};
 use crate::render::Look;
 
@@ -44,6 +45,10 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
         supersample: Some(preset.supersample()?),
         outlines: Some(outline.strength),
         outline_scale: Some(outline.scale),
+        outline_ink: Some(match outline.ink {
+            OutlineInk::Colour(c) => hex(c),
+            OutlineInk::Pixel => OutlineInk::PIXEL.into(),
+        }),
         ..LookSection::default()
     };
     match preset.look()? {

@@ -143,6 +143,9 @@ pub struct LookSection {
     pub outlines: Option<f32>,
     /// Width of the outlines relative to the default.
     pub outline_scale: Option<f32>,
+    /// What the outlines are drawn in: `#rrggbb`, or `pixel` for the photo's colour under
+    /// every pixel of the lines.
+    pub outline_ink: Option<String>,
 }
 
 /// A preset resolved down its `extends` chain, with its name.
@@ -331,6 +334,7 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             tone: o.tone.or(b.tone),
             outlines: o.outlines.or(b.outlines),
             outline_scale: o.outline_scale.or(b.outline_scale),
+            outline_ink: o.outline_ink.or(b.outline_ink),
         },
     }
 }
