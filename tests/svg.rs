@@ -251,9 +251,17 @@ fn brush_stroke_svg_looks_like_the_png() {
     let dir = tempfile::tempdir().unwrap();
     let (png, svg, text) = paint_both(dir.path(), "strokes", &[], 1);
     assert!(text.matches("<path").count() > 500);
-    // Flat strokes stand for the bristled ones over the same traced underpainting.
+    // Flat strokes stand for the bristled ones over the same traced underpainting, and the
+    // SVG lays the strokes the PNG laid: the ones its coarse-to-fine canvas chose, then the
+    // detail strokes. Measured: tone 0.0052 and 97.4 % of pixels within 12 levels; with every
+    // stroke drawn once and no detail strokes (the SVG before), 0.0100 and 83.3 %.
     let tone = tone_difference(&png, &svg);
-    assert!(tone < 0.03, "tone differs by {tone:.4}");
+    assert!(tone < 0.008, "tone differs by {tone:.4}");
+    let close = close_fraction(&png, &svg, 12);
+    assert!(
+        close > 0.93,
+        "{close:.4} of pixels within 12 levels of the PNG"
+    );
 }
 
 #[test]

@@ -110,6 +110,25 @@ impl Default for GlyphParams {
 /// Renders the glyphs of `scene`.
 #[must_use]
 pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
+    painted(scene, params).0
+}
+
+/// The glyphs as the picture lays them, in drawing order (centre, metric, colour): every
+/// placed glyph, or, where brush strokes are refined coarse to fine, the strokes the canvas
+/// chose and then the detail strokes (found by painting the picture). The vector form draws
+/// this list, so it shows what the PNG shows.
+pub(super) fn laid(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
+    // As `refinement` has it: brush strokes over a photo with a positive threshold (painting
+    // a picture that lays every glyph anyway would only cost time).
+    if params.shape == Shape::Brush && params.refine > 0.0 && scene.photo.is_some() {
+        painted(scene, params).1
+    } else {
+        placed(scene, params)
+    }
+}
+
+/// The picture of the glyphs of `scene` and the glyphs it laid, in order ([`laid`]).
+fn painted(scene: &Scene, params: &GlyphParams) -> (RgbImage, Vec<(DVec2, Tensor, Linear)>) {
     let r = scene.raster;
     let (w, h) = (r.width as u32, r.height as u32);
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
@@ -160,6 +179,7 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
         .then(|| super::refine::refinement(scene, params.refine, glyphs.len()))
         .flatten();
     let mut keep = vec![true; glyphs.len()];
+    let mut laid = Vec::with_capacity(glyphs.len());
     for (k, &(p, m, colour)) in glyphs.iter().enumerate() {
         if let Some(r) = &refine {
             if let Some(layer) = r.layer_starting_at(k) {
@@ -169,6 +189,7 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
                 continue;
             }
         }
+        laid.push((p, m, colour));
         draw_glyph(
             &mut pixmap,
             params,
@@ -189,10 +210,12 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
                 draw_glyph(&mut pixmap, params, &line, glyph, index, (sx, sy));
                 index = index.wrapping_add(1);
             }
+            laid.extend(details);
         }
     }
     let rgb = rgba_to_rgb_in_place(pixmap.take());
-    RgbImage::from_raw(w, h, rgb).expect("w·h RGB pixels")
+    let image = RgbImage::from_raw(w, h, rgb).expect("w·h RGB pixels");
+    (image, laid)
 }
 
 /// Draws one glyph (centre, metric, colour; `k` its index, which seeds its bristles) on

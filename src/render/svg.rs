@@ -499,7 +499,7 @@ fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
     } else {
         out.push_str("<g>\n");
     }
-    for (p, m, colour) in super::glyphs::placed(scene, params) {
+    for (p, m, colour) in super::glyphs::laid(scene, params) {
         let e = m.eigen();
         let scale = f64::from(params.scale);
         let (a, b) = (e.l1.abs() * scale, e.l2.abs() * scale);
