@@ -2,7 +2,8 @@
 //! has no direction, so the lines take `look.flat_angle` (here 90°: vertical): they must be
 //! parallel, at the set spacing, unbroken from the top of the picture to the bottom, and of
 //! the width that gives the grey. On a ramp of lightness across the picture the lines follow
-//! the isophotes (vertical again), keep their spacing and grow wider towards the dark side.
+//! the isophotes (vertical again), keep their spacing and grow wider towards the dark side,
+//! and a fine grain over the ramp does not bend them.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -131,4 +132,69 @@ fn a_ramp_is_engraved_along_its_isophotes_wider_where_darker() {
         );
     }
     assert!(lines[0].1 > 2.0 * lines[lines.len() - 1].1, "{lines:.2?}");
+}
+
+#[test]
+fn grain_does_not_bend_the_lines_of_a_ramp() {
+    // The ramp again, under a fine grain (noise blurred at σ = 3 px, ±4 levels rms against
+    // the ramp's 140): at the integration scale the grain has directions of its own, and
+    // lines that followed them would swirl. The wider neighbourhood's direction keeps them on
+    // the isophotes. Measured as the painting's vertical against horizontal gradient energy
+    // (0 for vertical lines): 0.072 with the wide direction, 0.264 without it (its weight set
+    // to 0); on three other grains, in a script, 0.15–0.22 against 0.39–0.49.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let white: Vec<f32> = (0..W * H).map(|_| uniform() as f32).collect();
+    let grain = blurred(&white, 3.0);
+    let rms =
+        (grain.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / grain.len() as f64).sqrt();
+    let photo = RgbImage::from_fn(W, H, |x, y| {
+        let ramp = 60.0 + 140.0 * (f64::from(x) + 0.5) / f64::from(W);
+        let v = ramp + 4.0 * f64::from(grain[(y * W + x) as usize]) / rms;
+        let v = v.round().clamp(0.0, 255.0) as u8;
+        image::Rgb([v, v, v])
+    });
+    let img = engrave(photo);
+    let (mut across, mut down) = (0.0, 0.0);
+    for y in 0..H - 1 {
+        for x in 0..W - 1 {
+            let v = |x: u32, y: u32| f64::from(img.get_pixel(x, y).0[1]);
+            across += (v(x + 1, y) - v(x, y)).powi(2);
+            down += (v(x, y + 1) - v(x, y)).powi(2);
+        }
+    }
+    let ratio = down / across;
+    assert!(ratio < 0.15, "the lines bend with the grain: {ratio:.3}");
+}
+
+/// `values` (`W × H`) blurred by a Gaussian of `sigma` px, clamped at the edges.
+fn blurred(values: &[f32], sigma: f32) -> Vec<f32> {
+    let reach = (3.0 * sigma).ceil() as i64;
+    let kernel: Vec<f32> = (-reach..=reach)
+        .map(|i| (-(i * i) as f32 / (2.0 * sigma * sigma)).exp())
+        .collect();
+    let total: f32 = kernel.iter().sum();
+    let pass = |src: &[f32], step: (i64, i64)| -> Vec<f32> {
+        (0..W * H)
+            .map(|i| {
+                let (x, y) = (i64::from(i % W), i64::from(i / W));
+                kernel
+                    .iter()
+                    .zip(-reach..=reach)
+                    .map(|(w, k)| {
+                        let sx = (x + k * step.0).clamp(0, i64::from(W) - 1);
+                        let sy = (y + k * step.1).clamp(0, i64::from(H) - 1);
+                        w * src[(sy * i64::from(W) + sx) as usize]
+                    })
+                    .sum::<f32>()
+                    / total
+            })
+            .collect()
+    };
+    pass(&pass(values, (1, 0)), (0, 1))
 }
