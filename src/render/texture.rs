@@ -176,8 +176,9 @@ impl Frame {
 
 /// Every cell's frame for texturing. With [`TextureParams::flat_angle`], hatch and cross-hatch
 /// cells rounder than `fade_anisotropy` are turned to that angle and counted as fully
-/// anisotropic (no fade). Their short axes go on a ladder of octaves, so that neighbours of
-/// about one size share a spacing and their lines continue into each other, and no larger
+/// anisotropic (no fade). Their short axes go on a ladder of octaves whose rungs are centred
+/// on their median ([`median_octave`]), so that neighbours of about one size share a spacing
+/// and their lines continue into each other, and no larger
 /// than lines [`FLAT_SPACING`] of the diagonal `diagonal` apart need (a flat area is hatched
 /// finely and evenly, not in the coarse lines of its large cells).
 pub(super) fn texture_frames(
@@ -192,9 +193,11 @@ pub(super) fn texture_frames(
     };
     let flat = |f: &Frame| f.anisotropy < p.fade_anisotropy;
     let angle = f64::from(angle).to_radians();
+    let largest = FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0;
+    let octaves = |f: &Frame| f.b.min(largest).max(1e-9).log2();
+    let median = median_octave(frames.iter().filter(|f| flat(f)).map(octaves).collect());
     for f in frames.iter_mut().filter(|f| flat(f)) {
-        let largest = FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0;
-        let b = 2f64.powf(f.b.min(largest).max(1e-9).log2().round());
+        let b = 2f64.powf((octaves(f) - median).round() + median.round());
         *f = Frame {
             angle,
             cos: angle.cos(),
@@ -205,6 +208,19 @@ pub(super) fn texture_frames(
         };
     }
     frames
+}
+
+/// The median of the flat cells' sizes `octaves` (log₂ of their short axes; 0 for none): the
+/// middle of the ladder's rung that holds it. Rungs between whole octaves cut through the sizes
+/// of a flat area wherever they spread across a rung's edge (a grey wall whose cells are 5.5
+/// to 6.5 px straddles 2^2.5 = 5.66 px), and its cells, hatched at 4 and 8 px by turns, read as
+/// patches; centred on the median, a flat area's cells share one rung, still a whole octave.
+fn median_octave(mut octaves: Vec<f64>) -> f64 {
+    if octaves.is_empty() {
+        return 0.0;
+    }
+    let middle = octaves.len() / 2;
+    *octaves.select_nth_unstable_by(middle, f64::total_cmp).1
 }
 
 /// The widest spacing of flat hatching, as a share of the picture's diagonal.
@@ -555,6 +571,7 @@ fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::field::Tensor;
 
     #[test]
     fn hatch_layers_are_0_90_and_45_degrees() {
@@ -562,6 +579,28 @@ mod tests {
         for (layer, angle) in LAYERS.iter().zip([0.0, FRAC_PI_2, FRAC_PI_4]) {
             assert_eq!(*layer, angle.sin_cos());
         }
+    }
+
+    #[test]
+    fn a_flat_area_is_hatched_at_one_spacing() {
+        // Round cells of a grey wall, 5.5 to 6.5 units across their short axis: on whole-octave
+        // rungs they straddle 2^2.5 = 5.66 and split between spacings 4 and 8 (patches);
+        // centred on their median, they share one rung. Two cells half their size (a detail in
+        // the wall) keep the next finer one.
+        let mut metrics: Vec<Tensor> = (0..41)
+            .map(|i| Tensor::isotropic(5.5 + f64::from(i) / 40.0))
+            .collect();
+        metrics.extend([Tensor::isotropic(2.8), Tensor::isotropic(3.0)]);
+        let params = TextureParams {
+            flat_angle: Some(-45.0),
+            ..TextureParams::for_kind(TextureKind::Hatch)
+        };
+        let frames = texture_frames(&metrics, &params, 2000.0);
+        let wall: Vec<f64> = frames[..41].iter().map(|f| f.b).collect();
+        assert!(wall.iter().all(|&b| b == wall[0]), "spacings {wall:?}");
+        assert_eq!(wall[0], 8.0, "the median's whole octave");
+        assert!(frames[41..].iter().all(|f| f.b == 4.0), "the detail's rung");
+        assert!(frames.iter().all(|f| f.angle == (-45f64).to_radians()));
     }
 
     #[test]
