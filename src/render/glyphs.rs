@@ -128,7 +128,10 @@ pub(super) fn laid(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, L
 }
 
 /// The picture of the glyphs of `scene` and the glyphs it laid, in order ([`laid`]).
-fn painted(scene: &Scene, params: &GlyphParams) -> (RgbImage, Vec<(DVec2, Tensor, Linear)>) {
+pub(super) fn painted(
+    scene: &Scene,
+    params: &GlyphParams,
+) -> (RgbImage, Vec<(DVec2, Tensor, Linear)>) {
     let r = scene.raster;
     let (w, h) = (r.width as u32, r.height as u32);
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");

@@ -132,6 +132,11 @@ pub fn draw(
         look.check_vector_form()?;
     }
     let scene = scene(cells, field, photo, size);
+    if let (Look::Glyphs(p), true) = (look, svg) {
+        // The glyphs the picture lays are the SVG's: painted once.
+        let (image, laid) = glyphs::painted(&scene, p);
+        return Ok((image, Some(svg::svg_of_laid(look, &scene, Some(laid))?)));
+    }
     let image = look.render(&scene);
     let svg = if svg {
         Some(svg::svg(look, &scene)?)

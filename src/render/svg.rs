@@ -26,6 +26,8 @@ use super::texture::{
 };
 use super::trace::{rings, simplify, Borders};
 use crate::error::Result;
+use crate::field::Tensor;
+use glam::DVec2;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::fmt::Write;
 
@@ -35,6 +37,16 @@ pub const TRACE_TOLERANCE_PX: f32 = 0.7;
 
 /// The SVG document of `look` over `scene`, or an error for looks without a vector form.
 pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
+    svg_of_laid(look, scene, None)
+}
+
+/// [`svg`], with the glyphs the raster picture laid when it was painted already
+/// ([`super::glyphs::painted`]), so they are not found twice.
+pub(super) fn svg_of_laid(
+    look: &Look,
+    scene: &Scene,
+    laid: Option<Vec<(DVec2, Tensor, Linear)>>,
+) -> Result<String> {
     look.check_vector_form()?;
     let r = scene.raster;
     let mut out = String::new();
@@ -68,7 +80,10 @@ pub fn svg(look: &Look, scene: &Scene) -> Result<String> {
                 (p.border_width > 0.0).then(|| (p.ink.leading(), scene.border_px(p.border_width)));
             cells(&mut out, scene, &colours, border);
         }
-        Look::Glyphs(p) => glyphs(&mut out, scene, p),
+        Look::Glyphs(p) => {
+            let laid = laid.unwrap_or_else(|| super::glyphs::laid(scene, p));
+            glyphs(&mut out, scene, p, &laid);
+        }
         Look::Engraving(p) => engraved(&mut out, scene, p),
         // Refused above.
         Look::Fabric(_) => {}
@@ -469,8 +484,8 @@ fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
     out.push_str("</g>\n");
 }
 
-/// Writes the glyphs of `scene` as vector shapes.
-fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
+/// Writes the glyphs of `scene`, `laid` as the picture lays them, as vector shapes.
+fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams, laid: &[(DVec2, Tensor, Linear)]) {
     let r = scene.raster;
     let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
     if params.underpaint {
@@ -499,7 +514,7 @@ fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams) {
     } else {
         out.push_str("<g>\n");
     }
-    for (p, m, colour) in super::glyphs::laid(scene, params) {
+    for &(p, m, colour) in laid {
         let e = m.eigen();
         let scale = f64::from(params.scale);
         let (a, b) = (e.l1.abs() * scale, e.l2.abs() * scale);
