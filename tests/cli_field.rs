@@ -168,6 +168,30 @@ fn analytic_fields_render() {
 }
 
 #[test]
+fn quiet_and_verbose_as_the_other_commands() {
+    // `-q` and `-v` are accepted as by `paint`, `sample` and `render` (a script may pass them
+    // to every command); `-v` prints the stages' times on standard error, `-q` nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.npy");
+    let quiet = bin()
+        .args(["field", PHOTO, "-q", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    assert!(quiet.get_output().stderr.is_empty());
+    let verbose = bin()
+        .args(["field", PHOTO, "-v", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let text = String::from_utf8_lossy(&verbose.get_output().stderr).into_owned();
+    assert!(
+        text.contains("timings: reading") && text.contains("metric"),
+        "{text}"
+    );
+}
+
+#[test]
 fn missing_file() {
     expect_bad_input(
         "no/such/photo.png",

@@ -127,6 +127,8 @@ pub(super) struct FieldArgs {
     /// What the preview shows.
     #[arg(long, value_enum, default_value_t = PreviewArg::Ellipses)]
     preview_mode: PreviewArg,
+    #[command(flatten)]
+    verbosity: VerbosityArgs,
 }
 
 #[derive(Debug, Args)]
@@ -186,7 +188,9 @@ pub(super) fn run_field(args: &FieldArgs) -> Result<()> {
         &input,
         args.out.iter().chain(&args.preview).map(PathBuf::as_path),
     )?;
-    let loaded = input::load_field(&input, &options)?;
+    let bars = StageBars::new(args.verbosity.get());
+    let loaded = input::load_field_observed(&input, &options, &bars)?;
+    bars.print_timings();
     if let Some(out) = &args.out {
         let which = if args.raw {
             &loaded.raw
