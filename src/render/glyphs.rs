@@ -118,12 +118,14 @@ pub fn glyphs(scene: &Scene, params: &GlyphParams) -> RgbImage {
 /// chose and then the detail strokes (found by painting the picture). The vector form draws
 /// this list, so it shows what the PNG shows.
 pub(super) fn laid(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
-    // As `refinement` has it: brush strokes over a photo with a positive threshold (painting
-    // a picture that lays every glyph anyway would only cost time).
-    if params.shape == Shape::Brush && params.refine > 0.0 && scene.photo.is_some() {
+    let glyphs = placed(scene, params);
+    // Without a refinement every placed glyph is laid: no picture needs painting to know.
+    let refined = params.shape == Shape::Brush
+        && super::refine::refinement(scene, params.refine, glyphs.len()).is_some();
+    if refined {
         painted(scene, params).1
     } else {
-        placed(scene, params)
+        glyphs
     }
 }
 
