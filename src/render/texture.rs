@@ -176,9 +176,10 @@ impl Frame {
 
 /// Every cell's frame for texturing. With [`TextureParams::flat_angle`], hatch and cross-hatch
 /// cells rounder than `fade_anisotropy` are turned to that angle and counted as fully
-/// anisotropic (no fade). Their short axes go on a ladder of octaves whose rungs are centred
-/// on their median ([`median_octave`]), so that neighbours of about one size share a spacing
-/// and their lines continue into each other, and no larger
+/// anisotropic (no fade). Their short axes go on a ladder of whole octaves, so that neighbours
+/// of about one size share a spacing and their lines continue into each other; those within
+/// half an octave of the flat cells' median ([`median_octave`]) all take the median's rung, and
+/// no larger
 /// than lines [`FLAT_SPACING`] of the diagonal `diagonal` apart need (a flat area is hatched
 /// finely and evenly, not in the coarse lines of its large cells).
 pub(super) fn texture_frames(
@@ -197,7 +198,13 @@ pub(super) fn texture_frames(
     let octaves = |f: &Frame| f.b.min(largest).max(1e-9).log2();
     let median = median_octave(frames.iter().filter(|f| flat(f)).map(octaves).collect());
     for f in frames.iter_mut().filter(|f| flat(f)) {
-        let b = 2f64.powf((octaves(f) - median).round() + median.round());
+        let o = octaves(f);
+        let rung = if (o - median).abs() < 0.5 {
+            median.round()
+        } else {
+            o.round()
+        };
+        let b = 2f64.powf(rung);
         *f = Frame {
             angle,
             cos: angle.cos(),
@@ -210,11 +217,12 @@ pub(super) fn texture_frames(
     frames
 }
 
-/// The median of the flat cells' sizes `octaves` (log₂ of their short axes; 0 for none): the
-/// middle of the ladder's rung that holds it. Rungs between whole octaves cut through the sizes
-/// of a flat area wherever they spread across a rung's edge (a grey wall whose cells are 5.5
-/// to 6.5 px straddles 2^2.5 = 5.66 px), and its cells, hatched at 4 and 8 px by turns, read as
-/// patches; centred on the median, a flat area's cells share one rung, still a whole octave.
+/// The median of the flat cells' sizes `octaves` (log₂ of their short axes; 0 for none). The
+/// ladder's rungs change at half octaves, which cut through the sizes of a flat area wherever
+/// they spread across one (a grey wall whose cells are 5.5 to 6.5 px straddles 2^2.5 = 5.66
+/// px), and its cells, hatched at 4 and 8 px by turns, read as patches; every cell within half
+/// an octave of the median takes the median's rung, so a flat area shares one. Cells farther
+/// from it (a galaxy's in a black sky) keep their own rung.
 fn median_octave(mut octaves: Vec<f64>) -> f64 {
     if octaves.is_empty() {
         return 0.0;
@@ -583,14 +591,14 @@ mod tests {
 
     #[test]
     fn a_flat_area_is_hatched_at_one_spacing() {
-        // Round cells of a grey wall, 5.5 to 6.5 units across their short axis: on whole-octave
-        // rungs they straddle 2^2.5 = 5.66 and split between spacings 4 and 8 (patches);
-        // centred on their median, they share one rung. Two cells half their size (a detail in
-        // the wall) keep the next finer one.
+        // Round cells of a grey wall, 5.5 to 6.5 units across their short axis: rounded to
+        // whole octaves they straddle 2^2.5 = 5.66 and split between spacings 4 and 8
+        // (patches); within half an octave of their median, they share its rung. Two cells
+        // about half their size (a detail in the wall) keep their own, finer one.
         let mut metrics: Vec<Tensor> = (0..41)
             .map(|i| Tensor::isotropic(5.5 + f64::from(i) / 40.0))
             .collect();
-        metrics.extend([Tensor::isotropic(2.8), Tensor::isotropic(3.0)]);
+        metrics.extend([Tensor::isotropic(3.0), Tensor::isotropic(3.2)]);
         let params = TextureParams {
             flat_angle: Some(-45.0),
             ..TextureParams::for_kind(TextureKind::Hatch)
