@@ -19,6 +19,7 @@ pub mod colour_term;
 pub mod engrave;
 pub mod fabric;
 pub mod font;
+mod frames;
 pub mod glyphs;
 mod lic_grid;
 mod local_tone;

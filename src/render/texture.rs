@@ -17,6 +17,7 @@
 use super::blurred_photo::BlurredPhoto;
 pub use super::blurred_photo::INK_BLUR;
 use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
+use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
 use super::rounding::floor;
@@ -147,88 +148,22 @@ impl TextureParams {
     }
 }
 
-/// A site's frame: long-axis direction and semi-axes, precomputed once per render.
-#[derive(Clone, Copy)]
-pub(super) struct Frame {
-    pub(super) angle: f64,
-    cos: f64,
-    sin: f64,
-    a: f64,
-    pub(super) b: f64,
-    pub(super) anisotropy: f32,
-}
-
-impl Frame {
-    /// The frame of a site with metric `m`.
-    pub(super) fn of(m: &crate::field::Tensor) -> Self {
-        let e = m.eigen();
-        let (a, b) = (e.l1.abs().max(1e-9), e.l2.abs().max(1e-9));
-        Frame {
-            angle: e.angle,
-            cos: e.angle.cos(),
-            sin: e.angle.sin(),
-            a,
-            b,
-            anisotropy: e.anisotropy() as f32,
-        }
-    }
-}
-
-/// Every cell's frame for texturing. With [`TextureParams::flat_angle`], hatch and cross-hatch
-/// cells rounder than `fade_anisotropy` are turned to that angle and counted as fully
-/// anisotropic (no fade). Their short axes go on a ladder of whole octaves, so that neighbours
-/// of about one size share a spacing and their lines continue into each other; those within
-/// half an octave of the flat cells' median ([`median_octave`]) all take the median's rung, and
-/// no larger
-/// than lines [`FLAT_SPACING`] of the diagonal `diagonal` apart need (a flat area is hatched
-/// finely and evenly, not in the coarse lines of its large cells).
+/// Every cell's frame for texturing ([`cell_frames`]): with [`TextureParams::flat_angle`],
+/// hatch and cross-hatch cells rounder than `fade_anisotropy` are hatched at that angle, at
+/// spacings no larger than lines [`FLAT_SPACING`] of the diagonal `diagonal` apart need (a
+/// flat area is hatched finely and evenly, not in the coarse lines of its large cells).
 pub(super) fn texture_frames(
     metrics: &[crate::field::Tensor],
     p: &TextureParams,
     diagonal: f64,
 ) -> Vec<Frame> {
-    let mut frames: Vec<Frame> = metrics.iter().map(Frame::of).collect();
     let hatched = matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch);
-    let Some(angle) = p.flat_angle.filter(|_| hatched) else {
-        return frames;
-    };
-    let flat = |f: &Frame| f.anisotropy < p.fade_anisotropy;
-    let angle = f64::from(angle).to_radians();
-    let largest = FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0;
-    let octaves = |f: &Frame| f.b.min(largest).max(1e-9).log2();
-    let median = median_octave(frames.iter().filter(|f| flat(f)).map(octaves).collect());
-    for f in frames.iter_mut().filter(|f| flat(f)) {
-        let o = octaves(f);
-        let rung = if (o - median).abs() < 0.5 {
-            median.round()
-        } else {
-            o.round()
-        };
-        let b = 2f64.powf(rung);
-        *f = Frame {
-            angle,
-            cos: angle.cos(),
-            sin: angle.sin(),
-            a: f.a.max(b),
-            b,
-            anisotropy: 1.0,
-        };
-    }
-    frames
-}
-
-/// The median of the flat cells' sizes `octaves` (log₂ of their short axes; 0 for none). The
-/// ladder's rungs change at half octaves, which cut through the sizes of a flat area wherever
-/// they spread across one (a grey wall whose cells are 5.5 to 6.5 px straddles 2^2.5 = 5.66
-/// px), and its cells, hatched at 4 and 8 px by turns, read as patches; every cell within half
-/// an octave of the median takes the median's rung, so a flat area shares one. Cells farther
-/// from it (a galaxy's in a black sky) keep their own rung.
-fn median_octave(mut octaves: Vec<f64>) -> f64 {
-    if octaves.is_empty() {
-        return 0.0;
-    }
-    let middle = octaves.len() / 2;
-    *octaves.select_nth_unstable_by(middle, f64::total_cmp).1
+    let flat = p.flat_angle.filter(|_| hatched).map(|angle| FlatHatching {
+        angle: f64::from(angle).to_radians(),
+        below: p.fade_anisotropy,
+        largest: FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0,
+    });
+    cell_frames(metrics, flat)
 }
 
 /// The widest spacing of flat hatching, as a share of the picture's diagonal.
@@ -579,7 +514,6 @@ fn sample_wrapped(img: &GrayImage, u: f64, v: f64) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::Tensor;
 
     #[test]
     fn hatch_layers_are_0_90_and_45_degrees() {
@@ -587,28 +521,6 @@ mod tests {
         for (layer, angle) in LAYERS.iter().zip([0.0, FRAC_PI_2, FRAC_PI_4]) {
             assert_eq!(*layer, angle.sin_cos());
         }
-    }
-
-    #[test]
-    fn a_flat_area_is_hatched_at_one_spacing() {
-        // Round cells of a grey wall, 5.5 to 6.5 units across their short axis: rounded to
-        // whole octaves they straddle 2^2.5 = 5.66 and split between spacings 4 and 8
-        // (patches); within half an octave of their median, they share its rung. Two cells
-        // about half their size (a detail in the wall) keep their own, finer one.
-        let mut metrics: Vec<Tensor> = (0..41)
-            .map(|i| Tensor::isotropic(5.5 + f64::from(i) / 40.0))
-            .collect();
-        metrics.extend([Tensor::isotropic(3.0), Tensor::isotropic(3.2)]);
-        let params = TextureParams {
-            flat_angle: Some(-45.0),
-            ..TextureParams::for_kind(TextureKind::Hatch)
-        };
-        let frames = texture_frames(&metrics, &params, 2000.0);
-        let wall: Vec<f64> = frames[..41].iter().map(|f| f.b).collect();
-        assert!(wall.iter().all(|&b| b == wall[0]), "spacings {wall:?}");
-        assert_eq!(wall[0], 8.0, "the median's whole octave");
-        assert!(frames[41..].iter().all(|f| f.b == 4.0), "the detail's rung");
-        assert!(frames.iter().all(|f| f.angle == (-45f64).to_radians()));
     }
 
     #[test]
