@@ -80,3 +80,88 @@ fn a_constant_isotropic_field_is_hatched_not_grey() {
     let img = paint(&input, &recipe).unwrap();
     assert_hatched_at_minus_45(&img, "analytic:constant");
 }
+
+/// A grey plain whose grain grows from none (left) to strong (right): the metric's cells
+/// shrink gradually across it by more than an octave, and most stay round (grain has no
+/// direction). Deterministic noise (a linear congruential generator, box-blurred twice).
+fn grainy_ramp(w: usize, h: usize) -> RgbImage {
+    let mut state = 2024u32;
+    let mut noise: Vec<f64> = (0..w * h)
+        .map(|_| {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            f64::from(state >> 8) / f64::from(1u32 << 24) - 0.5
+        })
+        .collect();
+    for _ in 0..2 {
+        let mut out = noise.clone();
+        for y in 1..h - 1 {
+            for x in 1..w - 1 {
+                let mut sum = 0.0;
+                for (dx, dy) in [
+                    (0, 0),
+                    (1, 0),
+                    (0, 1),
+                    (1, 1),
+                    (2, 0),
+                    (0, 2),
+                    (2, 1),
+                    (1, 2),
+                    (2, 2),
+                ] {
+                    sum += noise[(y + dy - 1) * w + x + dx - 1];
+                }
+                out[y * w + x] = sum / 9.0;
+            }
+        }
+        noise = out;
+    }
+    RgbImage::from_fn(w as u32, h as u32, |x, y| {
+        let t = ((x as f64 / w as f64 - 0.1) / 0.8).clamp(0.0, 1.0);
+        let v = 160.0 + t * t * 240.0 * noise[y as usize * w + x as usize];
+        image::Rgb([v.clamp(0.0, 255.0) as u8; 3])
+    })
+}
+
+/// The period in pixels (2 to 24) of the lines crossing the rows of columns `x0..x1`: the lag
+/// at which the rows' luma best matches itself.
+fn period_along_rows(img: &RgbImage, x0: u32, x1: u32) -> u32 {
+    let h = img.height();
+    let rows: Vec<Vec<f64>> = (8..h - 8)
+        .map(|y| {
+            let row: Vec<f64> = (x0..x1).map(|x| luma(img, x, y)).collect();
+            let mean = row.iter().sum::<f64>() / row.len() as f64;
+            row.into_iter().map(|v| v - mean).collect()
+        })
+        .collect();
+    let correlation = |lag: usize| -> f64 {
+        rows.iter()
+            .map(|r| {
+                r.iter().zip(&r[lag..]).map(|(a, b)| a * b).sum::<f64>() / (r.len() - lag) as f64
+            })
+            .sum()
+    };
+    (2..25u32)
+        .max_by(|&a, &b| correlation(a as usize).total_cmp(&correlation(b as usize)))
+        .unwrap()
+}
+
+#[test]
+fn a_plain_whose_grain_changes_is_hatched_at_one_spacing() {
+    // Per-cell rungs hatched the smooth half at 17 px along the rows and the grainy half at 3,
+    // with a seam between: one flat area takes one rung.
+    let photo = grainy_ramp(480, 240);
+    let mut preset = anisopaint::style::load("pen-hatch").unwrap();
+    anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
+    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image;
+    let periods: Vec<u32> = (0..8)
+        .map(|k| period_along_rows(&img, k * 60, (k + 1) * 60))
+        .collect();
+    assert!(
+        periods.iter().all(|&p| p == periods[0]),
+        "periods along the rows, left to right: {periods:?}"
+    );
+}

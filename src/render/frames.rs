@@ -2,8 +2,9 @@
 //! semi-axes, in which a texture tile spans one cell and its lines run along the field; and,
 //! for hatching with a flat angle, the frames of cells without a direction (round ones, where
 //! paper Figure 6 fades the texture), turned to that angle and given spacings on a ladder of
-//! whole octaves, so that flat neighbours of about one size share a spacing and their lines
-//! run on from cell to cell. Geometry is `f64` in domain units.
+//! whole octaves, one rung per flat area (touching flat cells of gradually changing size), so
+//! that a plain is hatched at one spacing and its lines run on from cell to cell. Geometry is
+//! `f64` in domain units.
 
 use crate::field::Tensor;
 
@@ -46,24 +47,27 @@ pub(super) struct FlatHatching {
 }
 
 /// Every cell's frame. With `flat`, cells rounder than `flat.below` are turned to its angle and
-/// counted as fully anisotropic (no fade); their short axes (at most `flat.largest`) go on a
-/// ladder of whole octaves, and those within half an octave of the flat cells' median
-/// ([`median_octave`]) all take the median's rung.
-pub(super) fn cell_frames(metrics: &[Tensor], flat: Option<FlatHatching>) -> Vec<Frame> {
+/// counted as fully anisotropic (no fade), and hatched at a spacing from a ladder of whole
+/// octaves of their short axes (at most `flat.largest`), one rung per flat area
+/// ([`flat_areas`]): `neighbours` are pairs of cells that touch (the triangulation's edges).
+pub(super) fn cell_frames(
+    metrics: &[Tensor],
+    neighbours: &[[u32; 2]],
+    flat: Option<FlatHatching>,
+) -> Vec<Frame> {
     let mut frames: Vec<Frame> = metrics.iter().map(Frame::of).collect();
     let Some(flat) = flat else {
         return frames;
     };
-    let is_flat = |f: &Frame| f.anisotropy < flat.below;
-    let octaves = |f: &Frame| f.b.min(flat.largest).max(1e-9).log2();
-    let median = median_octave(frames.iter().filter(|f| is_flat(f)).map(octaves).collect());
+    let octaves: Vec<Option<f64>> = frames
+        .iter()
+        .map(|f| (f.anisotropy < flat.below).then(|| f.b.min(flat.largest).max(1e-9).log2()))
+        .collect();
+    let rungs = flat_areas(&octaves, neighbours);
     let (sin, cos) = flat.angle.sin_cos();
-    for f in frames.iter_mut().filter(|f| is_flat(f)) {
-        let o = octaves(f);
-        let rung = if (o - median).abs() < 0.5 {
-            median.round()
-        } else {
-            o.round()
+    for (f, rung) in frames.iter_mut().zip(rungs) {
+        let Some(rung) = rung else {
+            continue;
         };
         let b = 2f64.powf(rung);
         *f = Frame {
@@ -78,52 +82,162 @@ pub(super) fn cell_frames(metrics: &[Tensor], flat: Option<FlatHatching>) -> Vec
     frames
 }
 
-/// The median of the flat cells' sizes `octaves` (log₂ of their short axes; 0 for none). The
-/// ladder's rungs change at half octaves, which cut through the sizes of a flat area wherever
-/// they spread across one (a grey wall whose cells are 5.5 to 6.5 px straddles 2^2.5 = 5.66
-/// px), and its cells, hatched at 4 and 8 px by turns, read as patches; every cell within half
-/// an octave of the median takes the median's rung, so a flat area shares one. Cells farther
-/// from it (a galaxy's in a black sky) keep their own rung.
-fn median_octave(mut octaves: Vec<f64>) -> f64 {
-    if octaves.is_empty() {
+/// The rung (a whole octave) of every flat cell (`octaves[i]`, log₂ of its short axis, is
+/// `None` for a cell with a direction). A flat area is the flat cells joined by touching
+/// neighbours whose sizes differ by less than [`SAME_AREA_OCTAVES`]; all its cells take one
+/// rung: that of the median of every flat cell when the area's own median size is within half
+/// an octave of it, else that of its own median. Rounding each cell on its own cut through the
+/// sizes of a flat area wherever they spread across a half octave (a grey wall whose cells are
+/// 5.5 to 6.5 px straddles 2^2.5 = 5.66 px; the moon's plains, whose cells span an octave):
+/// its cells, hatched at 4 and 8 px by turns, read as patches. The metric's sizes change
+/// gradually over an area and jump where a detail begins, so a galaxy's small cells in a black
+/// sky keep their own, finer rung; grain makes many small areas of about one size, which the
+/// shared median keeps on one rung.
+fn flat_areas(octaves: &[Option<f64>], neighbours: &[[u32; 2]]) -> Vec<Option<f64>> {
+    let mut parent: Vec<u32> = (0..octaves.len() as u32).collect();
+    for &[a, b] in neighbours {
+        let (Some(oa), Some(ob)) = (octaves[a as usize], octaves[b as usize]) else {
+            continue;
+        };
+        if (oa - ob).abs() < SAME_AREA_OCTAVES {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            // The smaller index roots the area: the same areas whatever the pairs' order.
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let mut members: Vec<(u32, f64)> = octaves
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| o.map(|o| (i as u32, o)))
+        .map(|(i, o)| (root(&mut parent, i), o))
+        .collect();
+    members.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    let mut all: Vec<f64> = members.iter().map(|m| m.1).collect();
+    let median = median_of(&mut all);
+    let mut rung_of_root = vec![f64::NAN; octaves.len()];
+    for area in members.chunk_by(|x, y| x.0 == y.0) {
+        let own = area[area.len() / 2].1;
+        let rung = if (own - median).abs() < 0.5 {
+            median
+        } else {
+            own
+        };
+        rung_of_root[area[0].0 as usize] = rung.round();
+    }
+    (0..octaves.len() as u32)
+        .map(|i| octaves[i as usize].map(|_| rung_of_root[root(&mut parent, i) as usize]))
+        .collect()
+}
+
+/// Touching flat cells whose sizes differ by less than this many octaves are one flat area:
+/// the metric's gradation lets touching ellipses differ by up to about 0.58 octaves (a factor
+/// 1.5), over a gradual change they differ far less.
+const SAME_AREA_OCTAVES: f64 = 0.25;
+
+/// The median of `values` (0 for none).
+fn median_of(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
         return 0.0;
     }
-    let middle = octaves.len() / 2;
-    *octaves.select_nth_unstable_by(middle, f64::total_cmp).1
+    let middle = values.len() / 2;
+    *values.select_nth_unstable_by(middle, f64::total_cmp).1
+}
+
+/// The root of `i`'s set, halving the path on the way.
+fn root(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let up = parent[parent[i as usize] as usize];
+        parent[i as usize] = up;
+        i = up;
+    }
+    i
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    const FLAT: FlatHatching = FlatHatching {
+        angle: -std::f64::consts::FRAC_PI_4,
+        below: 0.25,
+        largest: 100.0,
+    };
+
+    /// Cells `i` and `i + 1` touch, for `i` in `range`.
+    fn chain(range: std::ops::Range<u32>) -> Vec<[u32; 2]> {
+        range.map(|i| [i, i + 1]).collect()
+    }
+
     #[test]
     fn a_flat_area_is_hatched_at_one_spacing() {
         // Round cells of a grey wall, 5.5 to 6.5 units across their short axis: rounded to
         // whole octaves they straddle 2^2.5 = 5.66 and split between spacings 4 and 8
-        // (patches); within half an octave of their median, they share its rung. Two cells
-        // about half their size (a detail in the wall) keep their own, finer one.
+        // (patches); as one area, they share its median's rung. Two cells about half their
+        // size (a detail in the wall, touching it) keep their own, finer one.
         let mut metrics: Vec<Tensor> = (0..41)
             .map(|i| Tensor::isotropic(5.5 + f64::from(i) / 40.0))
             .collect();
         metrics.extend([Tensor::isotropic(3.0), Tensor::isotropic(3.2)]);
-        let angle = (-45f64).to_radians();
-        let flat = FlatHatching {
-            angle,
-            below: 0.25,
-            largest: 100.0,
-        };
-        let frames = cell_frames(&metrics, Some(flat));
+        let mut touching = chain(0..42);
+        touching.push([0, 42]);
+        let frames = cell_frames(&metrics, &touching, Some(FLAT));
         let wall: Vec<f64> = frames[..41].iter().map(|f| f.b).collect();
         assert!(wall.iter().all(|&b| b == wall[0]), "spacings {wall:?}");
         assert_eq!(wall[0], 8.0, "the median's whole octave");
         assert!(frames[41..].iter().all(|f| f.b == 4.0), "the detail's rung");
-        assert!(frames.iter().all(|f| f.angle == angle));
+        assert!(frames.iter().all(|f| f.angle == FLAT.angle));
+    }
+
+    #[test]
+    fn an_area_whose_sizes_spread_over_an_octave_takes_one_rung() {
+        // A plain whose cells grow gradually from 3.5 to 8 units (1.2 octaves), and a second
+        // one of 13 to 19 units, away from it: every cell of each plain shares one rung,
+        // where rounding cell by cell, or taking the rung of the median of all flat cells
+        // within half an octave of it, splits the first plain in two.
+        let mut metrics: Vec<Tensor> = (0..60)
+            .map(|i| Tensor::isotropic(3.5 * (8.0f64 / 3.5).powf(f64::from(i) / 59.0)))
+            .collect();
+        metrics.extend((0..25).map(|i| Tensor::isotropic(13.0 + f64::from(i) / 4.0)));
+        let mut touching = chain(0..59);
+        touching.extend(chain(60..84));
+        let frames = cell_frames(&metrics, &touching, Some(FLAT));
+        let first: Vec<f64> = frames[..60].iter().map(|f| f.b).collect();
+        assert!(first.iter().all(|&b| b == first[0]), "spacings {first:?}");
+        let second: Vec<f64> = frames[60..].iter().map(|f| f.b).collect();
+        assert!(second.iter().all(|&b| b == 16.0), "spacings {second:?}");
+        assert!(first[0] == 4.0 || first[0] == 8.0);
+    }
+
+    #[test]
+    fn a_grainy_plain_takes_the_median_rung_whatever_its_cells_sizes() {
+        // Neighbours whose sizes jump by a third of an octave at random (grain, not a
+        // detail) make many small areas; those within half an octave of the median of all
+        // flat cells take its rung, so the plain is hatched at one spacing, not in patches.
+        // A cell with a direction between them is left as it is.
+        let mut state = 12345u32;
+        let mut metrics: Vec<Tensor> = (0..200)
+            .map(|_| {
+                state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let jitter = f64::from(state >> 8) / f64::from(1u32 << 24) - 0.5;
+                Tensor::isotropic(2f64.powf(2.4 + 0.8 * jitter))
+            })
+            .collect();
+        metrics[100] = Tensor::from_eigen(0.3, 9.0, 3.0);
+        let frames = cell_frames(&metrics, &chain(0..199), Some(FLAT));
+        for (i, f) in frames.iter().enumerate() {
+            if i == 100 {
+                assert!((f.a - 9.0).abs() < 1e-9 && (f.b - 3.0).abs() < 1e-9);
+                assert!((f.angle - 0.3).abs() < 1e-9);
+            } else {
+                assert_eq!(f.b, 4.0, "cell {i}");
+            }
+        }
     }
 
     #[test]
     fn without_a_flat_angle_every_cell_keeps_its_own_frame() {
         let metrics = [Tensor::isotropic(5.5), Tensor::from_eigen(0.3, 6.0, 2.0)];
-        let frames = cell_frames(&metrics, None);
+        let frames = cell_frames(&metrics, &[[0, 1]], None);
         assert_eq!(frames[0].b, 5.5);
         assert_eq!((frames[1].a, frames[1].b), (6.0, 2.0));
         assert!((frames[1].angle - 0.3).abs() < 1e-12);

@@ -209,7 +209,7 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
         hex(paper)
     );
     let tones = cell_tones(&scene.colours, p);
-    let frames = texture_frames(scene.cells.metrics(), p, r.domain.length());
+    let frames = texture_frames(scene, p);
     let (mut d, mut lines) = (String::new(), String::new());
     for (i, &(darkness, ink)) in tones.iter().enumerate() {
         if traced.rings[i].is_empty() || darkness <= 0.0 {
@@ -281,7 +281,7 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
         hex(linear_of(p.paper))
     );
     let tones = cell_tones(&scene.colours, p);
-    let frames = texture_frames(scene.cells.metrics(), p, r.domain.length());
+    let frames = texture_frames(scene, p);
     let blurred = match (p.ink, scene.photo) {
         (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
         _ => None,

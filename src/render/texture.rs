@@ -148,22 +148,29 @@ impl TextureParams {
     }
 }
 
-/// Every cell's frame for texturing ([`cell_frames`]): with [`TextureParams::flat_angle`],
-/// hatch and cross-hatch cells rounder than `fade_anisotropy` are hatched at that angle, at
-/// spacings no larger than lines [`FLAT_SPACING`] of the diagonal `diagonal` apart need (a
-/// flat area is hatched finely and evenly, not in the coarse lines of its large cells).
-pub(super) fn texture_frames(
-    metrics: &[crate::field::Tensor],
-    p: &TextureParams,
-    diagonal: f64,
-) -> Vec<Frame> {
+/// Every cell of `scene` framed for texturing ([`cell_frames`]): with
+/// [`TextureParams::flat_angle`], hatch and cross-hatch cells rounder than `fade_anisotropy`
+/// are hatched at that angle, one spacing per flat area (cells touching in the triangulation),
+/// no larger than lines [`FLAT_SPACING`] of the picture's diagonal apart need (a flat area is
+/// hatched finely and evenly, not in the coarse lines of its large cells).
+pub(super) fn texture_frames(scene: &Scene, p: &TextureParams) -> Vec<Frame> {
     let hatched = matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch);
+    let diagonal = scene.raster.domain.length();
     let flat = p.flat_angle.filter(|_| hatched).map(|angle| FlatHatching {
         angle: f64::from(angle).to_radians(),
         below: p.fade_anisotropy,
         largest: FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0,
     });
-    cell_frames(metrics, flat)
+    let neighbours: Vec<[u32; 2]> = match flat {
+        Some(_) => scene
+            .cells
+            .mesh()
+            .triangles()
+            .flat_map(|[a, b, c]| [[a, b], [b, c], [c, a]])
+            .collect(),
+        None => Vec::new(),
+    };
+    cell_frames(scene.cells.metrics(), &neighbours, flat)
 }
 
 /// The widest spacing of flat hatching, as a share of the picture's diagonal.
@@ -212,7 +219,7 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
 /// Renders `scene` with textured cells.
 #[must_use]
 pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
-    let frames = texture_frames(scene.cells.metrics(), params, scene.raster.domain.length());
+    let frames = texture_frames(scene, params);
     // Per cell, once: tone and ink (a power per raster point would cost more than the texture).
     let tones = cell_tones(&scene.colours, params);
     // Stipple radii (lattice periods) per cell, once: a table search per raster point cost 5 %.
