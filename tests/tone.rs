@@ -72,16 +72,24 @@ fn a_hatched_ramp_keeps_its_tones() {
 
 #[test]
 fn pointillist_dots_leave_no_crackle_of_paper() {
-    // A flat photo in four tones, near-black, dark, mid and light. Painted pointillist, the
-    // dots cover each tone densely: no pixel (measured: none) shows the paper between them,
-    // 40 sRGB levels or more lighter than the tone. When the dots were twice as dark as the
-    // tone they left about 4-5 % of every tone bare, a white crackle over the picture; when a
-    // tone of solid ink still read its coverage back through the 8-bit encoding (just short
-    // of 1) and left the gaps of the dots' lattice, 0.8 % and 0.6 % of the two dark tones
-    // were single white pixels, stars in a black coat.
-    let tones = [[12, 10, 8], [70, 50, 35], [150, 100, 60], [210, 190, 150]];
-    let band = W / 4;
-    let photo = RgbImage::from_fn(W, H, |x, _| image::Rgb(tones[(x / band).min(3) as usize]));
+    // A flat photo in five tones, black, near-black, dark, mid and light. Painted
+    // pointillist, the dots cover each tone densely: no pixel (measured: none) shows the paper
+    // between them, 40 sRGB levels or more lighter than the tone. When the dots were twice as
+    // dark as the tone they left about 4-5 % of every tone bare, a white crackle over the
+    // picture; when a tone of solid ink still read its coverage back through the 8-bit
+    // encoding (just short of 1) and left the gaps of the dots' lattice, 0.8 % and 0.6 % of
+    // the two dark tones were single white pixels, stars in a black coat; and a black of
+    // (2, 0, 1), the background of a fundus photo, whose ink read a level darker than its
+    // target, was covered 0.997 and showed the stars again (4.8 % of it).
+    let tones = [
+        [2, 0, 1],
+        [12, 10, 8],
+        [70, 50, 35],
+        [150, 100, 60],
+        [210, 190, 150],
+    ];
+    let band = W / 5;
+    let photo = RgbImage::from_fn(W, H, |x, _| image::Rgb(tones[(x / band).min(4) as usize]));
     let preset = anisopaint::style::load("pointillist").unwrap();
     let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();
     let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);

@@ -211,6 +211,16 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
             } else {
                 1.0
             };
+            // Paper left that lightens the cell by less than one level of the 8-bit encoding
+            // (the lightnesses are read through it: a near-black cell whose ink reads a level
+            // under its target came out 0.997 covered) is no tone anyone can see, but the gaps
+            // of a dot lattice gather it into specks of bare paper, white stars in a black sky:
+            // the cell is covered.
+            let cover = if (1.0 - cover) * room < 1.0 / 255.0 {
+                1.0
+            } else {
+                cover
+            };
             (cover, ink)
         })
         .collect()
