@@ -3,7 +3,8 @@
 //! averaged down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1
 //! scale) after the tone curve its preset asks for (`look.gamma`: lightness `1 − (1 − L)^γ`),
 //! light areas paper, dark ones dense. Flat tones stipple without paper showing through; soft
-//! spots keep their depth in hatching; strokes keep what is smaller than their cells.
+//! spots keep their depth in hatching; strokes keep what is smaller than their cells; glyphs
+//! keep a black area black.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -287,4 +288,40 @@ fn strokes_keep_thin_lines_in_their_colour() {
         ground_off < plain_ground + 1.0,
         "the ground: {ground_off:.1} against {plain_ground:.1} without outlines"
     );
+}
+
+#[test]
+fn glyphs_keep_a_black_area_black() {
+    // Glyphs stand on a wash of their cell's colour 15 % towards the paper, their colour
+    // solved so that glyph and wash average to the cell's. A black cell's glyph cannot be
+    // darker than black: its wash went grey (37 sRGB levels, a grey mesh between black discs
+    // over the helmet and table of astronaut, mean 6.6 over the black surround of a fundus
+    // photo). The wash takes what the glyph cannot: black under black. The grey half keeps
+    // its tone from afar.
+    let photo = RgbImage::from_fn(W, H, |x, _| {
+        image::Rgb(if x < W / 2 {
+            [0, 0, 0]
+        } else {
+            [128, 128, 128]
+        })
+    });
+    let preset = anisopaint::style::load("glyphs").unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
+    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image;
+    let luma = |x: u32, y: u32| {
+        let p = img.get_pixel(x, y).0;
+        0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2])
+    };
+    let black = (16..H - 16).flat_map(|y| (16..W / 2 - 16).map(move |x| (x, y)));
+    let brightest = black.map(|(x, y)| luma(x, y)).fold(0.0, f64::max);
+    assert!(brightest <= 4.0, "the black half reaches {brightest:.1}");
+    let grey: Vec<f64> = (16..H - 16)
+        .flat_map(|y| (W / 2 + 16..W - 16).map(move |x| (x, y)))
+        .map(|(x, y)| luma(x, y))
+        .collect();
+    let mean = grey.iter().sum::<f64>() / grey.len() as f64;
+    assert!((mean - 128.0).abs() < 10.0, "the grey half reads {mean:.1}");
 }

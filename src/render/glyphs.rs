@@ -149,10 +149,9 @@ pub(super) fn painted(
         // One owning site per pixel, not supersampled: the wash shows only between the glyphs.
         // The sites (no runner-up or distance) are handed row by row straight into the canvas
         // (no owner map of the picture).
-        let washes: Vec<[u8; 3]> = scene
-            .colours
-            .iter()
-            .map(|&c| ground_colour(params, c).map(to_srgb))
+        let washes: Vec<[u8; 3]> = grounds(scene, params)
+            .into_iter()
+            .map(|g| g.map(to_srgb))
             .collect();
         let bg = params.background;
         let centres = Raster {
@@ -352,9 +351,55 @@ pub(super) fn tone_kept(scene: &Scene, params: &GlyphParams) -> bool {
 
 /// The ground under the glyph of a cell of colour `c`: the background, `ground` of the way to
 /// `c` in the sRGB encoding.
-pub(super) fn ground_colour(params: &GlyphParams, c: Linear) -> Linear {
+fn ground_colour(params: &GlyphParams, c: Linear) -> Linear {
     let bg = linear_of(params.background);
     std::array::from_fn(|k| encoded_mix(bg[k], c[k], params.ground))
+}
+
+/// Where [`tone_kept`], the ground under the glyph of a cell of colour `c` and the glyph's
+/// colour, which average to `c` seen from afar when the glyphs cover a share `kappa` of the
+/// picture: the ground is [`ground_colour`] and the glyph `(c − (1 − κ)·ground) / κ`, in the
+/// sRGB encoding, channel by channel. Where that glyph would be darker than black (a cell
+/// darker than its ground allows: a black sky, whose wash 15 % towards the paper left a grey
+/// mesh between black glyphs), the glyph is black and the ground takes the rest,
+/// `c / (1 − κ)`; where it would be lighter than white, likewise.
+pub(super) fn ground_and_glyph(params: &GlyphParams, c: Linear, kappa: f32) -> (Linear, Linear) {
+    let g = ground_colour(params, c);
+    let enc = |v: f32| f32::from(to_srgb(v));
+    let mut ground = g;
+    let glyph = std::array::from_fn(|k| {
+        let (ce, ge) = (enc(c[k]), enc(g[k]));
+        let e = (ce - (1.0 - kappa) * ge) / kappa;
+        let inked = e.clamp(0.0, 255.0);
+        if inked != e {
+            let rest = (ce - kappa * inked) / (1.0 - kappa);
+            ground[k] = super::colour::to_linear(round_to_byte(rest));
+        }
+        super::colour::to_linear(round_to_byte(e))
+    });
+    (ground, glyph)
+}
+
+/// The grounds under the glyphs of every cell ([`ground_and_glyph`]).
+pub(super) fn grounds(scene: &Scene, params: &GlyphParams) -> Vec<Linear> {
+    let kappa = glyph_share(scene, &placed_unordered(scene, params), params);
+    scene
+        .colours
+        .iter()
+        .map(|&c| ground_and_glyph(params, c, kappa).0)
+        .collect()
+}
+
+/// The share of the picture `glyphs` cover (their areas over the domain's), kept within
+/// [0.3, 0.97].
+fn glyph_share(scene: &Scene, glyphs: &[(DVec2, Tensor, Linear)], params: &GlyphParams) -> f32 {
+    let s2 = f64::from(params.scale).powi(2);
+    let area: f64 = glyphs
+        .iter()
+        .map(|(_, m, _)| std::f64::consts::PI * m.det().abs() * s2)
+        .sum();
+    let d = scene.field.domain();
+    (area / (d.x * d.y).max(1e-9)).clamp(0.3, 0.97) as f32
 }
 
 /// `a + (b − a)·t` in the sRGB encoding (how paint and paper average seen from afar).
@@ -368,26 +413,14 @@ fn encoded_mix(a: f32, b: f32, t: f32) -> f32 {
 /// broad first and details over them (ties keep the sample order), others as placed.
 ///
 /// Where [`tone_kept`], a glyph's colour is solved so that it and the ground around it
-/// average to the cell's colour seen from afar: with `κ` the share of the picture the glyphs
-/// cover (their areas over the domain's), `glyph = (c − (1 − κ)·ground) / κ` in the sRGB
-/// encoding, clamped (a cell darker than its ground allows stays as dark as ink can make it).
+/// average to the cell's colour seen from afar ([`ground_and_glyph`], with `κ` the share of
+/// the picture the glyphs cover).
 pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
     let mut glyphs = placed_unordered(scene, params);
     if tone_kept(scene, params) {
-        let s2 = f64::from(params.scale).powi(2);
-        let area: f64 = glyphs
-            .iter()
-            .map(|(_, m, _)| std::f64::consts::PI * m.det().abs() * s2)
-            .sum();
-        let d = scene.field.domain();
-        let kappa = (area / (d.x * d.y).max(1e-9)).clamp(0.3, 0.97) as f32;
+        let kappa = glyph_share(scene, &glyphs, params);
         for (_, _, c) in &mut glyphs {
-            let g = ground_colour(params, *c);
-            let enc = |v: f32| f32::from(to_srgb(v));
-            *c = std::array::from_fn(|k| {
-                let e = (enc(c[k]) - (1.0 - kappa) * enc(g[k])) / kappa;
-                super::colour::to_linear(round_to_byte(e))
-            });
+            *c = ground_and_glyph(params, *c, kappa).1;
         }
     }
     if params.shape == Shape::Brush {

@@ -491,11 +491,7 @@ fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams, laid: &[(DVec2,
     if params.underpaint {
         cells(out, scene, &scene.colours, None);
     } else if params.ground > 0.0 && super::glyphs::tone_kept(scene, params) {
-        let ground: Vec<Linear> = scene
-            .colours
-            .iter()
-            .map(|&c| super::glyphs::ground_colour(params, c))
-            .collect();
+        let ground = super::glyphs::grounds(scene, params);
         cells(out, scene, &ground, None);
     } else {
         let _ = writeln!(
