@@ -3,7 +3,7 @@
 //! parallel, at the set spacing, unbroken from the top of the picture to the bottom, and of
 //! the width that gives the grey. On a ramp of lightness across the picture the lines follow
 //! the isophotes (vertical again), keep their spacing and grow wider towards the dark side,
-//! and a fine grain over the ramp does not bend them.
+//! and a fine grain over the ramp does not bend them. A black disc is engraved solid.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -197,4 +197,32 @@ fn blurred(values: &[f32], sigma: f32) -> Vec<f32> {
             .collect()
     };
     pass(&pass(values, (1, 0)), (0, 1))
+}
+
+#[test]
+fn a_black_disc_is_engraved_solid() {
+    // Lines that part around a disc, or end inside it, left slivers of paper between them at
+    // exactly their share of the paper: white scratches over black (11.8 % of the disc's
+    // pixels under 90 % ink, 6.2 % under half). The darkest lines swell until they merge
+    // (measured: 1.1 % and 0.5 %).
+    let (cx, cy, r) = (120.0, 90.0, 70.0);
+    let photo = RgbImage::from_fn(W, H, |x, y| {
+        let d = (f64::from(x) + 0.5 - cx).hypot(f64::from(y) + 0.5 - cy);
+        image::Rgb(if d < r { [0, 0, 0] } else { [170, 170, 170] })
+    });
+    let img = engrave(photo);
+    let inside: Vec<f64> = (0..H)
+        .flat_map(|y| (0..W).map(move |x| (x, y)))
+        .filter(|&(x, y)| (f64::from(x) + 0.5 - cx).hypot(f64::from(y) + 0.5 - cy) < r - 8.0)
+        .map(|(x, y)| ink(&img, x, y))
+        .collect();
+    let share_under =
+        |level: f64| inside.iter().filter(|&&k| k < level).count() as f64 / inside.len() as f64;
+    let (grey, pale) = (share_under(0.9), share_under(0.5));
+    assert!(
+        grey < 0.03 && pale < 0.01,
+        "{:.2} % of the disc under 90 % ink, {:.2} % under half",
+        100.0 * grey,
+        100.0 * pale
+    );
 }
