@@ -22,15 +22,33 @@ fn ramp() -> RgbImage {
     })
 }
 
+/// `photo` painted in the built-in `style` with `sets` applied, the sampler seeded with `seed`.
+fn painted(photo: &RgbImage, style: &str, sets: &[String], seed: u64) -> RgbImage {
+    let mut preset = anisopaint::style::load(style).unwrap();
+    anisopaint::style::apply_sets(&mut preset, sets).unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(seed)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
+    paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image
+}
+
+/// Luma (0–255) of an sRGB pixel.
+fn luma(p: [u8; 3]) -> f64 {
+    0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2])
+}
+
+/// `img`'s luma, rounded to bytes.
+fn luma_image(img: &RgbImage) -> GrayImage {
+    GrayImage::from_fn(img.width(), img.height(), |x, y| {
+        image::Luma([luma(img.get_pixel(x, y).0).round() as u8])
+    })
+}
+
 /// Mean sRGB luma (0–1) of `img` blurred at σ = 4 px, in `bands` column bands, away from
 /// the picture's edges.
 fn profile(img: &RgbImage, bands: u32) -> Vec<f64> {
-    let luma = GrayImage::from_fn(W, H, |x, y| {
-        let p = img.get_pixel(x, y).0;
-        let l = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
-        image::Luma([l.round() as u8])
-    });
-    let blurred = image::imageops::blur(&luma, 4.0);
+    let blurred = image::imageops::blur(&luma_image(img), 4.0);
     let band = W / bands;
     (0..bands)
         .map(|b| {
@@ -54,10 +72,7 @@ fn a_hatched_ramp_keeps_its_tones() {
     for style in ["pen-hatch", "crosshatch", "pointillist", "engraving"] {
         let preset = anisopaint::style::load(style).unwrap();
         let gamma = f64::from(preset.file.look.gamma.unwrap_or(1.0));
-        let recipe = Recipe::from_preset(&preset, Default::default(), Some(2)).unwrap();
-        let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
-        let painting = paint_loaded(&loaded, &recipe, Extras::default(), &Silent).unwrap();
-        let got = profile(&painting.image, 10);
+        let got = profile(&painted(&photo, style, &[], 2), 10);
         for (k, (g, e)) in got.iter().zip(&expected).enumerate() {
             let e = 1.0 - (1.0 - e).powf(gamma);
             assert!(
@@ -91,14 +106,7 @@ fn pointillist_dots_leave_no_crackle_of_paper() {
     ];
     let band = W / 5;
     let photo = RgbImage::from_fn(W, H, |x, _| image::Rgb(tones[(x / band).min(4) as usize]));
-    let preset = anisopaint::style::load("pointillist").unwrap();
-    let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();
-    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
-    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-        .unwrap()
-        .image;
-    let luma =
-        |p: [u8; 3]| 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
+    let img = painted(&photo, "pointillist", &[], 3);
     for (k, &tone) in tones.iter().enumerate() {
         let k = k as u32;
         let pixels: Vec<f64> = (16..H - 16)
@@ -126,20 +134,8 @@ fn strokes_keep_details_smaller_than_their_cells() {
     let photo = image::open(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/chelsea.png"))
         .unwrap()
         .to_rgb8();
-    let preset = anisopaint::style::load("strokes").unwrap();
-    let recipe = Recipe::from_preset(&preset, Default::default(), Some(7)).unwrap();
-    let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
-    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-        .unwrap()
-        .image;
-    let blurred_luma = |img: &RgbImage| {
-        let luma = GrayImage::from_fn(img.width(), img.height(), |x, y| {
-            let p = img.get_pixel(x, y).0;
-            let l = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
-            image::Luma([l.round() as u8])
-        });
-        image::imageops::blur(&luma, 2.0)
-    };
+    let img = painted(&photo, "strokes", &[], 7);
+    let blurred_luma = |img: &RgbImage| image::imageops::blur(&luma_image(img), 2.0);
     let (a, b) = (blurred_luma(&photo), blurred_luma(&img));
     let mse = a
         .pixels()
@@ -169,12 +165,7 @@ fn hatching_follows_the_photos_tone_inside_its_cells() {
         image::Rgb([v, v, v])
     });
     let contrast = |img: &RgbImage| {
-        let luma = GrayImage::from_fn(W, H, |x, y| {
-            let p = img.get_pixel(x, y).0;
-            let l = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
-            image::Luma([l.round() as u8])
-        });
-        let blurred = image::imageops::blur(&luma, 1.5);
+        let blurred = image::imageops::blur(&luma_image(img), 1.5);
         let (mut dark, mut light) = ((0.0, 0.0), (0.0, 0.0));
         for y in 0..H {
             for x in 0..W {
@@ -193,13 +184,8 @@ fn hatching_follows_the_photos_tone_inside_its_cells() {
     for style in ["pen-hatch", "crosshatch"] {
         let mut found = Vec::new();
         for cell_tone in ["true", "false"] {
-            let mut preset = anisopaint::style::load(style).unwrap();
-            anisopaint::style::apply_sets(&mut preset, &[format!("look.cell_tone={cell_tone}")])
-                .unwrap();
-            let recipe = Recipe::from_preset(&preset, Default::default(), Some(2)).unwrap();
-            let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
-            let painting = paint_loaded(&loaded, &recipe, Extras::default(), &Silent).unwrap();
-            found.push(contrast(&painting.image));
+            let sets = [format!("look.cell_tone={cell_tone}")];
+            found.push(contrast(&painted(&photo, style, &sets, 2)));
         }
         // Point by point within 3 levels of the photo's contrast; one tone per cell (the
         // control, which shows the test can tell) more than 5 short.
@@ -251,14 +237,8 @@ fn strokes_keep_thin_lines_in_their_colour() {
             .any(|v| (x0..(x + 4).min(W)).any(|u| cover[(v * W + u) as usize] > 0.0))
     };
     let distances = |sets: &[&str]| {
-        let mut preset = anisopaint::style::load("strokes").unwrap();
         let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
-        let recipe = Recipe::from_preset(&preset, Default::default(), Some(7)).unwrap();
-        let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
-        let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-            .unwrap()
-            .image;
+        let img = painted(&photo, "strokes", &sets, 7);
         let (mut on, mut off) = ((0.0, 0.0), (0.0, 0.0));
         for (i, (p, q)) in photo.pixels().zip(img.pixels()).enumerate() {
             let (x, y) = (i as u32 % W, i as u32 / W);
@@ -305,22 +285,14 @@ fn glyphs_keep_a_black_area_black() {
             [128, 128, 128]
         })
     });
-    let preset = anisopaint::style::load("glyphs").unwrap();
-    let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();
-    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
-    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-        .unwrap()
-        .image;
-    let luma = |x: u32, y: u32| {
-        let p = img.get_pixel(x, y).0;
-        0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2])
-    };
+    let img = painted(&photo, "glyphs", &[], 3);
+    let luma_at = |x: u32, y: u32| luma(img.get_pixel(x, y).0);
     let black = (16..H - 16).flat_map(|y| (16..W / 2 - 16).map(move |x| (x, y)));
-    let brightest = black.map(|(x, y)| luma(x, y)).fold(0.0, f64::max);
+    let brightest = black.map(|(x, y)| luma_at(x, y)).fold(0.0, f64::max);
     assert!(brightest <= 4.0, "the black half reaches {brightest:.1}");
     let grey: Vec<f64> = (16..H - 16)
         .flat_map(|y| (W / 2 + 16..W - 16).map(move |x| (x, y)))
-        .map(|(x, y)| luma(x, y))
+        .map(|(x, y)| luma_at(x, y))
         .collect();
     let mean = grey.iter().sum::<f64>() / grey.len() as f64;
     assert!((mean - 128.0).abs() < 10.0, "the grey half reads {mean:.1}");

@@ -6,6 +6,7 @@
 //! that a plain is hatched at one spacing and its lines run on from cell to cell. Geometry is
 //! `f64` in domain units.
 
+use super::disjoint::DisjointSets;
 use crate::field::Tensor;
 
 /// A site's frame: long-axis direction and semi-axes, precomputed once per render.
@@ -94,22 +95,20 @@ pub(super) fn cell_frames(
 /// sky keep their own, finer rung; grain makes many small areas of about one size, which the
 /// shared median keeps on one rung.
 fn flat_areas(octaves: &[Option<f64>], neighbours: &[[u32; 2]]) -> Vec<Option<f64>> {
-    let mut parent: Vec<u32> = (0..octaves.len() as u32).collect();
+    let mut areas = DisjointSets::new(octaves.len());
     for &[a, b] in neighbours {
         let (Some(oa), Some(ob)) = (octaves[a as usize], octaves[b as usize]) else {
             continue;
         };
         if (oa - ob).abs() < SAME_AREA_OCTAVES {
-            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-            // The smaller index roots the area: the same areas whatever the pairs' order.
-            parent[ra.max(rb) as usize] = ra.min(rb);
+            areas.join(a, b);
         }
     }
     let mut members: Vec<(u32, f64)> = octaves
         .iter()
         .enumerate()
         .filter_map(|(i, o)| o.map(|o| (i as u32, o)))
-        .map(|(i, o)| (root(&mut parent, i), o))
+        .map(|(i, o)| (areas.root(i), o))
         .collect();
     members.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
     let mut all: Vec<f64> = members.iter().map(|m| m.1).collect();
@@ -125,7 +124,7 @@ fn flat_areas(octaves: &[Option<f64>], neighbours: &[[u32; 2]]) -> Vec<Option<f6
         rung_of_root[area[0].0 as usize] = rung.round();
     }
     (0..octaves.len() as u32)
-        .map(|i| octaves[i as usize].map(|_| rung_of_root[root(&mut parent, i) as usize]))
+        .map(|i| octaves[i as usize].map(|_| rung_of_root[areas.root(i) as usize]))
         .collect()
 }
 
@@ -141,16 +140,6 @@ fn median_of(values: &mut [f64]) -> f64 {
     }
     let middle = values.len() / 2;
     *values.select_nth_unstable_by(middle, f64::total_cmp).1
-}
-
-/// The root of `i`'s set, halving the path on the way.
-fn root(parent: &mut [u32], mut i: u32) -> u32 {
-    while parent[i as usize] != i {
-        let up = parent[parent[i as usize] as usize];
-        parent[i as usize] = up;
-        i = up;
-    }
-    i
 }
 
 #[cfg(test)]

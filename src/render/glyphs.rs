@@ -137,6 +137,7 @@ pub(super) fn painted(
     let r = scene.raster;
     let (w, h) = (r.width as u32, r.height as u32);
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
+    let (glyphs, kappa) = placed_and_share(scene, params);
     let mut underpainting = None;
     if params.underpaint {
         let cells = scene.shade(0.0, |_, o| scene.colours[o.site as usize]);
@@ -149,7 +150,7 @@ pub(super) fn painted(
         // One owning site per pixel, not supersampled: the wash shows only between the glyphs.
         // The sites (no runner-up or distance) are handed row by row straight into the canvas
         // (no owner map of the picture).
-        let washes: Vec<[u8; 3]> = grounds(scene, params)
+        let washes: Vec<[u8; 3]> = grounds(scene, params, kappa)
             .into_iter()
             .map(|g| g.map(to_srgb))
             .collect();
@@ -178,7 +179,6 @@ pub(super) fn painted(
     let mut line = Paint::default();
     let o = params.outline;
     line.set_color(Color::from_rgba8(o[0], o[1], o[2], 255));
-    let glyphs = placed(scene, params);
     let refine = (params.shape == Shape::Brush)
         .then(|| super::refine::refinement(scene, params.refine, glyphs.len()))
         .flatten();
@@ -380,14 +380,19 @@ pub(super) fn ground_and_glyph(params: &GlyphParams, c: Linear, kappa: f32) -> (
     (ground, glyph)
 }
 
-/// The grounds under the glyphs of every cell ([`ground_and_glyph`]).
-pub(super) fn grounds(scene: &Scene, params: &GlyphParams) -> Vec<Linear> {
-    let kappa = glyph_share(scene, &placed_unordered(scene, params), params);
+/// The grounds under the glyphs of every cell ([`ground_and_glyph`]), the glyphs covering a
+/// share `kappa` of the picture ([`glyph_cover`]).
+pub(super) fn grounds(scene: &Scene, params: &GlyphParams, kappa: f32) -> Vec<Linear> {
     scene
         .colours
         .iter()
         .map(|&c| ground_and_glyph(params, c, kappa).0)
         .collect()
+}
+
+/// The share of the picture the glyphs of `scene` cover ([`glyph_share`]).
+pub(super) fn glyph_cover(scene: &Scene, params: &GlyphParams) -> f32 {
+    glyph_share(scene, &placed_unordered(scene, params), params)
 }
 
 /// The share of the picture `glyphs` cover (their areas over the domain's), kept within
@@ -416,9 +421,14 @@ fn encoded_mix(a: f32, b: f32, t: f32) -> f32 {
 /// average to the cell's colour seen from afar ([`ground_and_glyph`], with `κ` the share of
 /// the picture the glyphs cover).
 pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {
+    placed_and_share(scene, params).0
+}
+
+/// [`placed`], and the share of the picture the glyphs cover ([`glyph_share`]).
+fn placed_and_share(scene: &Scene, params: &GlyphParams) -> (Vec<(DVec2, Tensor, Linear)>, f32) {
     let mut glyphs = placed_unordered(scene, params);
+    let kappa = glyph_share(scene, &glyphs, params);
     if tone_kept(scene, params) {
-        let kappa = glyph_share(scene, &glyphs, params);
         for (_, _, c) in &mut glyphs {
             *c = ground_and_glyph(params, *c, kappa).1;
         }
@@ -427,7 +437,7 @@ pub(super) fn placed(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor,
         let area = |m: &Tensor| m.det().abs();
         glyphs.sort_by(|a, b| area(&b.1).total_cmp(&area(&a.1)));
     }
-    glyphs
+    (glyphs, kappa)
 }
 
 fn placed_unordered(scene: &Scene, params: &GlyphParams) -> Vec<(DVec2, Tensor, Linear)> {

@@ -16,6 +16,7 @@ pub mod cellmap;
 pub mod cells;
 pub mod colour;
 pub mod colour_term;
+mod disjoint;
 pub mod engrave;
 pub mod fabric;
 pub mod font;

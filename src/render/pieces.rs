@@ -14,6 +14,7 @@
 //! does not depend on the thread count.
 
 use super::cellmap::{CellMap, NONE};
+use super::disjoint::DisjointSets;
 
 /// Largest share of its cell's main piece a detached piece may hold and still be absorbed.
 pub const MAX_SHARE: f64 = 0.25;
@@ -167,26 +168,17 @@ impl Runs {
     /// 4-connected pieces of equal owner: the piece of every run and the owner of every
     /// piece, numbered in scan order.
     fn pieces(&self) -> (Vec<u32>, Vec<u32>) {
-        let mut parent: Vec<u32> = (0..self.runs.len() as u32).collect();
-        fn root(parent: &mut [u32], mut k: u32) -> u32 {
-            while parent[k as usize] != k {
-                parent[k as usize] = parent[parent[k as usize] as usize];
-                k = parent[k as usize];
-            }
-            k
-        }
+        // The lower index is the root, so numbering follows scan order.
+        let mut sets = DisjointSets::new(self.runs.len());
         self.each_touching(|a, b| {
             if self.runs[a].owner == self.runs[b].owner {
-                let (ra, rb) = (root(&mut parent, a as u32), root(&mut parent, b as u32));
-                // The lower index is the root, so numbering follows scan order.
-                let (lo, hi) = (ra.min(rb), ra.max(rb));
-                parent[hi as usize] = lo;
+                sets.join(a as u32, b as u32);
             }
         });
         let mut piece_of_run = vec![NONE; self.runs.len()];
         let mut owners = Vec::new();
         for k in 0..self.runs.len() {
-            let r = root(&mut parent, k as u32) as usize;
+            let r = sets.root(k as u32) as usize;
             if piece_of_run[r] == NONE {
                 piece_of_run[r] = owners.len() as u32;
                 owners.push(self.runs[r].owner);

@@ -491,7 +491,8 @@ fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams, laid: &[(DVec2,
     if params.underpaint {
         cells(out, scene, &scene.colours, None);
     } else if params.ground > 0.0 && super::glyphs::tone_kept(scene, params) {
-        let ground = super::glyphs::grounds(scene, params);
+        let kappa = super::glyphs::glyph_cover(scene, params);
+        let ground = super::glyphs::grounds(scene, params, kappa);
         cells(out, scene, &ground, None);
     } else {
         let _ = writeln!(
