@@ -1,7 +1,8 @@
 //! The frame of every textured cell (paper section 6): the site's long-axis direction and
 //! semi-axes, in which a texture tile spans one cell and its lines run along the field; and,
 //! for hatching with a flat angle, the frames of cells without a direction (round ones, where
-//! paper Figure 6 fades the texture), turned to that angle and given spacings on a ladder of
+//! paper Figure 6 fades the texture, and ones whose direction their neighbours do not share,
+//! the grain of a plain), turned to that angle and given spacings on a ladder of
 //! whole octaves, one rung per flat area (touching flat cells of gradually changing size), so
 //! that a plain is hatched at one spacing and its lines run on from cell to cell. Geometry is
 //! `f64` in domain units.
@@ -47,10 +48,11 @@ pub(super) struct FlatHatching {
     pub(super) largest: f64,
 }
 
-/// Every cell's frame. With `flat`, cells rounder than `flat.below` are turned to its angle and
-/// counted as fully anisotropic (no fade), and hatched at a spacing from a ladder of whole
-/// octaves of their short axes (at most `flat.largest`), one rung per flat area
-/// ([`flat_areas`]): `neighbours` are pairs of cells that touch (the triangulation's edges).
+/// Every cell's frame. With `flat`, cells rounder than `flat.below`, or whose direction their
+/// neighbourhood does not bear out ([`directed_anisotropy`] under `flat.below`), are turned to
+/// its angle and counted as fully anisotropic (no fade), and hatched at a spacing from a ladder
+/// of whole octaves of their short axes (at most `flat.largest`), one rung per flat area
+/// ([`flat_areas`]): `neighbours` are the pairs of cells that touch, each once.
 pub(super) fn cell_frames(
     metrics: &[Tensor],
     neighbours: &[[u32; 2]],
@@ -60,9 +62,14 @@ pub(super) fn cell_frames(
     let Some(flat) = flat else {
         return frames;
     };
+    let directed = directed_anisotropy(&frames, neighbours);
     let octaves: Vec<Option<f64>> = frames
         .iter()
-        .map(|f| (f.anisotropy < flat.below).then(|| f.b.min(flat.largest).max(1e-9).log2()))
+        .zip(&directed)
+        .map(|(f, &d)| {
+            (f.anisotropy < flat.below || d < flat.below)
+                .then(|| f.b.min(flat.largest).max(1e-9).log2())
+        })
         .collect();
     let rungs = flat_areas(&octaves, neighbours);
     let (sin, cos) = flat.angle.sin_cos();
@@ -82,6 +89,44 @@ pub(super) fn cell_frames(
     }
     frames
 }
+
+/// Every cell's anisotropy as far as its neighbourhood bears it out: the length of the mean
+/// of the doubled-angle vectors `a·(cos 2θ, sin 2θ)` (`a` the anisotropy `1 − b/a`) of the
+/// cell, counted [`SELF_WEIGHT`] times, and of the cells it touches (`neighbours`, each pair
+/// once). Along an edge, a chain of cells that share a direction keeps most of its own; a cell
+/// long only by the grain of a plain (the fundus photo's orange, a brick's face), among round
+/// cells or cells turned every way, keeps little. Hatched in its own direction, such a cell was
+/// a patch of lines at a random angle in the plain's even hatching.
+fn directed_anisotropy(frames: &[Frame], neighbours: &[[u32; 2]]) -> Vec<f32> {
+    let vector = |f: &Frame| {
+        let (s, c) = (2.0 * f.angle).sin_cos();
+        [f64::from(f.anisotropy) * c, f64::from(f.anisotropy) * s]
+    };
+    let mut sums: Vec<([f64; 2], f64)> = frames
+        .iter()
+        .map(|f| {
+            let v = vector(f);
+            ([SELF_WEIGHT * v[0], SELF_WEIGHT * v[1]], SELF_WEIGHT)
+        })
+        .collect();
+    for &[a, b] in neighbours {
+        for (i, j) in [(a, b), (b, a)] {
+            let v = vector(&frames[j as usize]);
+            let s = &mut sums[i as usize];
+            s.0[0] += v[0];
+            s.0[1] += v[1];
+            s.1 += 1.0;
+        }
+    }
+    sums.iter()
+        .map(|(v, n)| ((v[0] * v[0] + v[1] * v[1]).sqrt() / n) as f32)
+        .collect()
+}
+
+/// How many times a cell's own direction counts in [`directed_anisotropy`]: with 2, a cell of
+/// an edge's chain (two neighbours along it, the rest round) keeps two thirds of its
+/// anisotropy.
+const SELF_WEIGHT: f64 = 2.0;
 
 /// The rung (a whole octave) of every flat cell (`octaves[i]`, log₂ of its short axis, is
 /// `None` for a cell with a direction). A flat area is the flat cells joined by touching
@@ -145,6 +190,7 @@ fn median_of(values: &mut [f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::FRAC_PI_2;
 
     const FLAT: FlatHatching = FlatHatching {
         angle: -std::f64::consts::FRAC_PI_4,
@@ -220,6 +266,38 @@ mod tests {
             } else {
                 assert_eq!(f.b, 4.0, "cell {i}");
             }
+        }
+    }
+
+    #[test]
+    fn grain_turned_every_way_is_hatched_flat_and_an_edge_keeps_its_direction() {
+        // An edge: a chain of cells along one direction (a/b = 2), each touching two round
+        // cells on its sides. Grain: a 5 x 6 grid of slightly long cells (a/b = 1.47, over
+        // `below`) turned by a right angle from each one to the next, as noise turns them.
+        let mut metrics = vec![Tensor::from_eigen(0.3, 6.0, 3.0); 10];
+        metrics.extend(vec![Tensor::isotropic(4.0); 20]);
+        let mut touching = chain(0..9);
+        touching.extend((0..10u32).flat_map(|i| [[i, 10 + 2 * i], [i, 11 + 2 * i]]));
+        let grain = metrics.len() as u32;
+        for r in 0..6u32 {
+            for c in 0..5u32 {
+                let angle = if (r + c) % 2 == 0 { 0.0 } else { FRAC_PI_2 };
+                metrics.push(Tensor::from_eigen(angle, 4.4, 3.0));
+                let i = grain + r * 5 + c;
+                if c > 0 {
+                    touching.push([i - 1, i]);
+                }
+                if r > 0 {
+                    touching.push([i - 5, i]);
+                }
+            }
+        }
+        let frames = cell_frames(&metrics, &touching, Some(FLAT));
+        for f in &frames[..10] {
+            assert!((f.angle - 0.3).abs() < 1e-9 && (f.a - 6.0).abs() < 1e-9);
+        }
+        for (i, f) in frames[grain as usize..].iter().enumerate() {
+            assert_eq!(f.angle, FLAT.angle, "grain cell {i}");
         }
     }
 

@@ -161,13 +161,12 @@ pub(super) fn texture_frames(scene: &Scene, p: &TextureParams) -> Vec<Frame> {
         below: p.fade_anisotropy,
         largest: FLAT_SPACING * diagonal * f64::from(p.lines_per_cell) / 2.0,
     });
+    // Every pair of touching cells once.
     let neighbours: Vec<[u32; 2]> = match flat {
-        Some(_) => scene
-            .cells
-            .mesh()
-            .triangles()
-            .flat_map(|[a, b, c]| [[a, b], [b, c], [c, a]])
-            .collect(),
+        Some(_) => {
+            let mesh = scene.cells.mesh();
+            mesh.edges(scene.cells.positions().len()).ends
+        }
         None => Vec::new(),
     };
     cell_frames(scene.cells.metrics(), &neighbours, flat)
