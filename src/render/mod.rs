@@ -37,6 +37,7 @@ pub mod scene;
 pub mod sheet;
 pub mod stipple;
 pub mod streamlines;
+mod stripes;
 pub mod sums;
 pub mod svg;
 pub mod texture;

@@ -23,6 +23,7 @@ use super::mosaic::border_coverage;
 use super::rounding::floor;
 use super::scene::Scene;
 use super::stipple::{dot_coverage_at, dot_jitter, stipple_radius};
+use super::stripes::stripe_coverage;
 use super::voronoi::Owner;
 use glam::DVec2;
 use image::{GrayImage, RgbImage};
@@ -371,30 +372,23 @@ const LAYERS: [(f64, f64); 3] = [
 ];
 
 /// Ink coverage of a family of parallel lines at angle `φ` (its sine and cosine) to the long
-/// axis through the
-/// local point, each of width `darkness × spacing`, anti-aliased over one pixel. `offset` is
-/// the site's own position across the lines (in domain units, along the same normal), so that
-/// lines of neighbouring cells with the same direction and spacing continue into each other.
+/// axis through the local point, each of width `darkness × spacing`: the share of the pixel's
+/// square they ink (`stripes.rs`), `normal` being their normal in picture coordinates.
+/// `offset` is the site's own position across the lines (in domain units, along the same
+/// normal), so that lines of neighbouring cells with the same direction and spacing continue
+/// into each other.
 fn lines(
     local: DVec2,
     (sin, cos): (f64, f64),
     spacing: f64,
-    offset: f64,
+    (normal, offset): (DVec2, f64),
     darkness: f32,
     px: f64,
 ) -> f32 {
     let across = -local.x * sin + local.y * cos + offset;
-    let w = across / spacing;
     let half = 0.5 * f64::from(darkness.clamp(0.0, 1.0));
-    let foot = (px / spacing).max(1e-9);
-    // The exact share of ink over the pixel's footprint across the lines (a box filter): a
-    // gap narrower than a pixel is averaged, not rounded away to paper.
-    let inked_up_to = |x: f64| {
-        let n = floor(x);
-        let r = x - n;
-        n * 2.0 * half + r.min(half) + (r - (1.0 - half)).max(0.0)
-    };
-    ((inked_up_to(w + 0.5 * foot) - inked_up_to(w - 0.5 * foot)) / foot).clamp(0.0, 1.0) as f32
+    let foot = (normal.abs() * (px / spacing)).to_array();
+    stripe_coverage(across / spacing, half, foot)
 }
 
 /// Ink coverage of the ink textures at a local point of a cell whose site is at `centre` (the
@@ -407,12 +401,12 @@ fn coverage(
     p: &TextureParams,
     px: f64,
 ) -> f32 {
-    // The site's position across lines at an angle of sine `sin` and cosine `cos` to its long
-    // axis.
-    let offset = |(sin, cos): (f64, f64)| {
+    // The normal, in picture coordinates, of lines at an angle of sine `sin` and cosine `cos`
+    // to the long axis, and the site's position across them.
+    let across = |(sin, cos): (f64, f64)| {
         let (s, c) = (f.sin * cos + f.cos * sin, f.cos * cos - f.sin * sin);
-        // Normal of the lines in domain coordinates: (−sin(θ+φ), cos(θ+φ)).
-        -s * centre.x + c * centre.y
+        let normal = DVec2::new(-s, c);
+        (normal, normal.dot(centre))
     };
     match &p.kind {
         TextureKind::Hatch => {
@@ -421,7 +415,7 @@ fn coverage(
                 local,
                 along,
                 spacing(f.b, p, px),
-                offset(along),
+                across(along),
                 darkness,
                 px,
             )
@@ -445,7 +439,7 @@ fn coverage(
             let s = spacing(f.b, p, px);
             let mut paper_left = 1.0;
             for &layer in LAYERS.iter().take(k) {
-                paper_left *= 1.0 - lines(local, layer, s, offset(layer), x, px);
+                paper_left *= 1.0 - lines(local, layer, s, across(layer), x, px);
             }
             1.0 - paper_left
         }
@@ -546,7 +540,14 @@ mod tests {
             let mean: f32 = (0..n)
                 .map(|i| {
                     let y = f64::from(i) / f64::from(n) * 10.0;
-                    lines(DVec2::new(0.0, y), LAYERS[0], 2.5, 0.7, darkness, 0.05)
+                    lines(
+                        DVec2::new(0.0, y),
+                        LAYERS[0],
+                        2.5,
+                        (DVec2::Y, 0.7),
+                        darkness,
+                        0.05,
+                    )
                 })
                 .sum::<f32>()
                 / n as f32;
