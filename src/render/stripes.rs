@@ -93,7 +93,8 @@ mod tests {
 
     #[test]
     fn coverage_is_the_inked_area_of_the_pixel_square() {
-        for angle in [0.0f64, 0.3, 0.7854, 1.2, 2.0, 1.5708] {
+        use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+        for angle in [0.0f64, 0.3, FRAC_PI_4, 1.2, 2.0, FRAC_PI_2] {
             let (ny, nx) = angle.sin_cos();
             for (period, half) in [(2.2, 0.3), (3.0, 0.1), (7.5, 0.45), (1.3, 0.25)] {
                 for (cx, cy) in [(10.5, 3.5), (101.5, 57.5), (4.5, 8.5)] {
