@@ -9,8 +9,8 @@
 //! tones: light areas paper-white, dark ones nearly solid, and the darkest lines swell past
 //! their share until neighbours merge into solid ink (`merge`). The tone is the photo's lightness
 //! blurred over a fifth of a line spacing (finer than the cells), or `tone` for a field without
-//! a photo. Lines are drawn with an exact one-dimensional box filter across them (a hairline
-//! keeps its share of ink), joined round; a line's own segments take the maximum where they
+//! a photo. Lines are drawn by the share of each pixel's square they ink (`stripes.rs`: a hairline
+//! keeps its share of ink, a diagonal line no staircase), joined round; a line's own segments take the maximum where they
 //! overlap, neighbouring lines add up (together they ink the pixels they share), and ink is
 //! mixed with the paper in the sRGB encoding, as the hatch looks are ([`super::texture`]).
 //! Coverage is `f32`, geometry `f64` in domain units until it is scaled to output pixels.
@@ -18,6 +18,7 @@
 use super::colour::{bilinear, lightness, linear_of};
 use super::scene::Scene;
 use super::streamlines::{streamlines, Directions, LineLayout, Streamline};
+use super::stripes::band_coverage;
 use super::texture::BLACK_INK;
 use crate::field::blur::round_to_byte;
 use glam::DVec2;
@@ -318,15 +319,23 @@ impl BandLayer<'_> {
         let y1 = ((a.y.max(b.y) + reach).ceil().max(0.0) as usize).min(y_end);
         let ab = b - a;
         let len2 = ab.length_squared().max(1e-12);
+        // The pixel's square projected across the segment: boxes |n_x| and |n_y| wide.
+        let foot = ab.perp().normalize_or(DVec2::Y).abs().to_array();
+        let r_max = s.ra.max(s.rb);
         for y in y0..y1 {
             let base = (y - self.y_start) * self.width;
             for x in x0..x1 {
                 let c = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
                 let t = ((c - a).dot(ab) / len2).clamp(0.0, 1.0);
                 let d = (c - (a + ab * t)).length();
+                if d - r_max >= std::f64::consts::FRAC_1_SQRT_2 {
+                    // Beyond the reach of any pixel's square (half its diagonal).
+                    continue;
+                }
                 let r = s.ra + (s.rb - s.ra) * t;
-                // The share of a pixel's width that a band of half-width r at distance d covers.
-                let v = ((d + r).min(0.5) - (d - r).max(-0.5)).max(0.0) as f32;
+                // The share of the pixel's square that a band of half-width r at distance d
+                // inks across the segment (at a round end, the same footprint).
+                let v = band_coverage(d, r, foot);
                 if v <= 0.0 {
                     continue;
                 }

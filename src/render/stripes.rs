@@ -1,6 +1,6 @@
-//! The share of a pixel that a family of parallel lines covers, exactly: the hatched looks'
-//! lines (paper section 6's hatch textures) anti-aliased by the area they ink in each pixel's
-//! square. Across the lines, that square's footprint is its projection on their normal, a
+//! The share of a pixel that a family of parallel lines ([`stripe_coverage`]) or a single
+//! band ([`band_coverage`]) covers, exactly: the hatched looks' lines (paper section 6's hatch
+//! textures) and the engraving's anti-aliased by the area they ink in each pixel's square. Across the lines, that square's footprint is its projection on their normal, a
 //! trapezoid: the convolution of two boxes `|n_x|` and `|n_y|` pixels wide (`n` the normal in
 //! picture coordinates), so one pixel wide for lines along an axis and a triangle √2 pixels
 //! wide at 45°. The lines' ink convolved with it is a second difference of the ink's second
@@ -39,6 +39,37 @@ pub(super) fn stripe_coverage(w: f64, half: f64, foot: [f64; 2]) -> f32 {
         let twice = |x: f64| inked_twice(x, half);
         let (outer, inner) = (0.5 * (wide + narrow), 0.5 * (wide - narrow));
         (twice(w + outer) - twice(w + inner) - twice(w - inner) + twice(w - outer))
+            / (wide * narrow)
+    };
+    share.clamp(0.0, 1.0) as f32
+}
+
+/// The share of a pixel inked by one band of half width `half` whose middle line lies `d` from
+/// the pixel's centre, the pixel's square projecting onto the band's normal as the
+/// convolution of boxes `foot[0]` and `foot[1]` wide (the same units as `d`: the pixel's size
+/// times `|n_x|` and `|n_y|`).
+#[must_use]
+pub(super) fn band_coverage(d: f64, half: f64, foot: [f64; 2]) -> f32 {
+    let (wide, narrow) = (foot[0].max(foot[1]).max(1e-9), foot[0].min(foot[1]));
+    let reach = 0.5 * (wide + narrow);
+    let d = d.abs();
+    if d - reach >= half {
+        return 0.0;
+    }
+    if d + reach <= half {
+        return 1.0;
+    }
+    let share = if narrow < NARROWEST * wide {
+        let once = |x: f64| (x + half).clamp(0.0, 2.0 * half);
+        (once(d + 0.5 * wide) - once(d - 0.5 * wide)) / wide
+    } else {
+        // `∫ once`: 0 before the band, a parabola across it, a line of slope 2·half after.
+        let twice = |x: f64| {
+            let inside = (x + half).clamp(0.0, 2.0 * half);
+            0.5 * inside * inside + 2.0 * half * (x - half).max(0.0)
+        };
+        let (outer, inner) = (reach, 0.5 * (wide - narrow));
+        (twice(d + outer) - twice(d + inner) - twice(d - inner) + twice(d - outer))
             / (wide * narrow)
     };
     share.clamp(0.0, 1.0) as f32
@@ -107,6 +138,29 @@ mod tests {
                         "angle {angle} period {period} half {half} at ({cx}, {cy}): {got} vs {want}"
                     );
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn a_band_covers_the_area_of_the_pixel_square_it_inks() {
+        // One band: the lines' formula with a period so long that only one line is near.
+        for angle in [0.0f64, 0.4, 0.9, 1.3, 2.5] {
+            let (ny, nx) = angle.sin_cos();
+            for (half, cx, cy) in [
+                (0.3, 0.5, 0.5),
+                (1.2, 1.5, -0.5),
+                (0.05, 0.5, 0.5),
+                (0.7, 2.5, 0.5),
+            ] {
+                let period = 1000.0;
+                let d = cx * nx + cy * ny;
+                let got = f64::from(band_coverage(d, half, [nx.abs(), ny.abs()]));
+                let want = brute(cx, cy, (nx, ny), period, half / period);
+                assert!(
+                    (got - want).abs() < 0.01,
+                    "{angle} {half} ({cx}, {cy}): {got} vs {want}"
+                );
             }
         }
     }
