@@ -4,7 +4,9 @@
 //! Borders are anti-aliased from the distance difference: the distance in pixels from a point
 //! to the border between its owner `i` and the runner-up `j` is about
 //! `(δ_j − δ_i) / |∇δ_j − ∇δ_i|` (first order, measured by the scene), so borders keep an
-//! even width in pixels whatever the cell's size and stretch. Relief lights each cell as a
+//! even width in pixels whatever the cell's stretch; cells smaller than those that cover most
+//! of the picture take leading narrowed in proportion ([`leading_widths`], shared with the
+//! SVG), so small type and fine detail stay readable. Relief lights each cell as a
 //! dome `1 − δ_i²` from the upper left (GEGL's mosaic has a bevel of the same kind), its slope
 //! from one vector per cell (`dome_tilts`). Shading is `f32` in linear light.
 
@@ -74,19 +76,68 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
         }
         c
     };
+    let leading = leading_widths(scene, width);
     // Pixels the cell map settles have no border near: no ink (`border_coverage` is 0).
     scene.shade_settled(
         width,
         |p, o| {
             let c = inside(p, scene.cells.delta_squared(o.site, p), o);
             if width > 0.0 {
-                mix(c, border, border_coverage(o, width))
+                let second = leading.get(o.second as usize).copied().unwrap_or(width);
+                let w = leading[o.site as usize].min(second);
+                mix(c, border, border_coverage(o, w))
             } else {
                 c
             }
         },
         inside,
     )
+}
+
+/// Per cell, the width of the leading round it in output pixels: `width` for cells at least
+/// as large (short semi-axis) as the cell under the picture's median pixel, narrowed in
+/// proportion for smaller ones down to [`THINNEST`] of it; a border takes the narrower of its two cells'. A mosaicist sets
+/// small tesserae with thin grout: at the full width, the leading of cells as small as a
+/// letter's stroke (printed text, fine fur, branches) was as dark and as wide as the strokes
+/// themselves, and text became unreadable. The reference is the cells that cover most of the
+/// picture (the median by area, not by count, which the many small cells of a detail would
+/// pull down), so the width a preset or user asks for is what the picture mostly shows.
+#[must_use]
+pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
+    // (short semi-axis, area ∝ a·b) per cell.
+    let axes: Vec<(f64, f64)> = scene
+        .cells
+        .metrics()
+        .iter()
+        .map(|m| {
+            let e = m.eigen();
+            let (a, b) = (e.l1.abs(), e.l2.abs());
+            (a.min(b), a * b)
+        })
+        .collect();
+    let reference = median_by_area(&axes);
+    axes.iter()
+        .map(|&(b, _)| width * (b / reference).clamp(THINNEST, 1.0) as f32)
+        .collect()
+}
+
+/// The narrowest leading as a share of the full width: thinner, a border between two tiny
+/// cells was no line at all.
+const THINNEST: f64 = 0.4;
+
+/// The short semi-axis of the cell holding the median of the area, cells in order of size.
+fn median_by_area(axes: &[(f64, f64)]) -> f64 {
+    let mut sorted = axes.to_vec();
+    sorted.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let half = 0.5 * sorted.iter().map(|c| c.1).sum::<f64>();
+    let mut covered = 0.0;
+    for &(b, area) in &sorted {
+        covered += area;
+        if covered >= half {
+            return b;
+        }
+    }
+    sorted.last().map_or(1.0, |c| c.0)
 }
 
 /// Per cell, the vector `Q l r` that gives the relief's slope towards the light at offset `d`

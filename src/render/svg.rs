@@ -66,8 +66,9 @@ pub(super) fn svg_of_laid(
             let colours: Vec<Linear> = (0..scene.colours.len())
                 .map(|i| p.jittered(scene.colours[i], i as u32))
                 .collect();
+            let widths = super::mosaic::leading_widths(scene, scene.border_px(p.border_width));
             let border =
-                (p.border_width > 0.0).then(|| (p.border_colour, scene.border_px(p.border_width)));
+                (p.border_width > 0.0).then_some((p.border_colour, Leading::PerCell(&widths)));
             cells(&mut out, scene, &colours, border);
         }
         Look::Texture(p) if matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch) => {
@@ -76,8 +77,12 @@ pub(super) fn svg_of_laid(
         Look::Texture(p) if p.kind == TextureKind::Stipple => stippled(&mut out, scene, p),
         Look::Texture(p) => {
             let colours = tone_colours(scene, p);
-            let border =
-                (p.border_width > 0.0).then(|| (p.ink.leading(), scene.border_px(p.border_width)));
+            let border = (p.border_width > 0.0).then(|| {
+                (
+                    p.ink.leading(),
+                    Leading::Even(scene.border_px(p.border_width)),
+                )
+            });
             cells(&mut out, scene, &colours, border);
         }
         Look::Glyphs(p) => {
@@ -144,25 +149,46 @@ impl Traced {
         }
     }
 
-    /// One stroked path of every border between two cells (not the picture's edge).
-    fn write_leading(&self, out: &mut String, colour: [u8; 3], width: f32) {
-        let mut d = String::new();
+    /// The borders between two cells (not the picture's edge) stroked at `leading`'s width:
+    /// one path per width.
+    fn write_leading(&self, out: &mut String, colour: [u8; 3], leading: Leading) {
+        // Paths by width in tenths of a pixel (as `num` writes it), narrowest first (a fixed
+        // order).
+        let mut paths: std::collections::BTreeMap<u32, String> = Default::default();
         for (chain, s) in self.borders.chains.iter().zip(&self.simplified) {
             if chain.left >= 0 && chain.right >= 0 {
-                path_data(&mut d, s, false);
+                let width = match leading {
+                    Leading::Even(w) => w,
+                    Leading::PerCell(w) => w[chain.left as usize].min(w[chain.right as usize]),
+                };
+                let key = (width * 10.0).round().max(0.0) as u32;
+                path_data(paths.entry(key).or_default(), s, false);
             }
         }
-        let _ = writeln!(
-            out,
-            r#"<path fill="none" stroke="{}" stroke-width="{width}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,
-            hex(linear_of(colour))
-        );
+        let ink = hex(linear_of(colour));
+        for (key, d) in paths.iter().filter(|(&key, _)| key > 0) {
+            let _ = writeln!(
+                out,
+                r#"<path fill="none" stroke="{ink}" stroke-width="{}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,
+                num(*key as f32 / 10.0)
+            );
+        }
     }
 }
 
+/// How wide the leading between cells is, in output pixels.
+#[derive(Clone, Copy)]
+enum Leading<'a> {
+    /// One width everywhere.
+    Even(f32),
+    /// Per cell; a border takes the narrower of its two cells' (the mosaic's
+    /// [`leading_widths`](super::mosaic::leading_widths)).
+    PerCell(&'a [f32]),
+}
+
 /// Writes the cells of `scene` filled with `colours`, and the borders stroked with
-/// `(colour, width)` when given.
-fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u8; 3], f32)>) {
+/// `(colour, leading)` when given.
+fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u8; 3], Leading)>) {
     let traced = Traced::new(scene);
     // Without leading, a hairline of the cell's own colour hides the seams anti-aliasing
     // leaves between abutting polygons.
@@ -186,8 +212,8 @@ fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u
         }
     }
     out.push_str("</g>\n");
-    if let Some((colour, width)) = border {
-        traced.write_leading(out, colour, width);
+    if let Some((colour, leading)) = border {
+        traced.write_leading(out, colour, leading);
     }
 }
 
@@ -260,7 +286,11 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
-        traced.write_leading(out, p.ink.leading(), scene.border_px(p.border_width));
+        traced.write_leading(
+            out,
+            p.ink.leading(),
+            Leading::Even(scene.border_px(p.border_width)),
+        );
     }
 }
 
@@ -336,7 +366,11 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
-        traced.write_leading(out, p.ink.leading(), scene.border_px(p.border_width));
+        traced.write_leading(
+            out,
+            p.ink.leading(),
+            Leading::Even(scene.border_px(p.border_width)),
+        );
     }
 }
 
