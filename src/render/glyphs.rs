@@ -4,7 +4,8 @@
 //! field and about the same count, give the paper's comparison (Figures 5b-d, 6a-b).
 //!
 //! Over a photo, glyphs may stand on a wash of their cell's colour (`ground`), their own
-//! colours solved so that glyph and wash average to the cell's (`placed`); brush strokes are
+//! colours solved so that glyph and wash average to the cell's (`placed`), and kept on their
+//! side of the photo's edges (`keep_out_across_edges`); brush strokes are
 //! laid coarse to fine after Hertzmann (1998), finer strokes only where the canvas still
 //! differs from the photo, then strokes half their size where it still does (`refine.rs`).
 
@@ -139,6 +140,7 @@ pub(super) fn painted(
     let mut pixmap = Pixmap::new(w, h).expect("output size is non-zero");
     let (glyphs, kappa) = placed_and_share(scene, params);
     let mut underpainting = None;
+    let washed = !params.underpaint && params.ground > 0.0 && tone_kept(scene, params);
     if params.underpaint {
         let cells = scene.shade(0.0, |_, o| scene.colours[o.site as usize]);
         for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(cells.pixels()) {
@@ -205,6 +207,8 @@ pub(super) fn painted(
     }
     if let (Some(under), Some(_)) = (&underpainting, scene.cells.colour()) {
         stop_at_edges(pixmap.data_mut(), under.as_raw());
+    } else if washed && params.placement == Placement::Relaxed && scene.cells.colour().is_some() {
+        keep_out_across_edges(scene, params, kappa, &mut pixmap);
     }
     if let Some(r) = &refine {
         let mut index = glyphs.len() as u32;
@@ -291,6 +295,59 @@ fn stop_at_edges(painted: &mut [u8], under: &[u8]) {
                 for k in 0..3 {
                     let v = f32::from(p[k]) + (f32::from(u[k]) - f32::from(p[k])) * t;
                     p[k] = round_to_byte(v);
+                }
+            }
+        });
+}
+
+/// Glyphs stay on their side of an edge: a pixel of a cell whose colour is neither its wash,
+/// its own glyph's nor a blend of the two (farther than [`EDGE_STOP`] from that segment, sRGB,
+/// RMS over channels) is a neighbour's glyph reaching across the cell's border, and takes the
+/// cell's colour instead (fully from `EDGE_STOP + EDGE_STOP_RAMP` on). The cells follow the
+/// photo's edges (their colour term), so an object's outline is the cells' border, not a rim of
+/// ellipses poking out of it; where neighbours' colours are close, glyphs overlap as before.
+fn keep_out_across_edges(scene: &Scene, params: &GlyphParams, kappa: f32, pixmap: &mut Pixmap) {
+    let encoded = |c: Linear| c.map(|v| f32::from(to_srgb(v)) / 255.0);
+    // Per cell: wash, glyph and the cell's own colour, sRGB in [0, 1].
+    let expected: Vec<[[f32; 3]; 3]> = scene
+        .colours
+        .iter()
+        .map(|&c| {
+            let (ground, glyph) = ground_and_glyph(params, c, kappa);
+            [encoded(ground), encoded(glyph), encoded(c)]
+        })
+        .collect();
+    let r = scene.raster;
+    let centres = Raster {
+        supersample: 1,
+        ..r
+    };
+    let w = r.width;
+    scene
+        .cells
+        .site_rows(&centres, pixmap.pixels_mut(), w, |_, sites, row| {
+            for (px, &site) in row.iter_mut().zip(sites) {
+                let Some(&[wash, glyph, cell]) = expected.get(site as usize) else {
+                    continue;
+                };
+                let c = px.demultiply();
+                let p = [c.red(), c.green(), c.blue()].map(|v| f32::from(v) / 255.0);
+                let along: [f32; 3] = std::array::from_fn(|k| glyph[k] - wash[k]);
+                let length2: f32 = along.iter().map(|v| v * v).sum();
+                let t = if length2 > 0.0 {
+                    ((0..3).map(|k| (p[k] - wash[k]) * along[k]).sum::<f32>() / length2)
+                        .clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let d2: f32 = (0..3)
+                    .map(|k| (p[k] - (wash[k] + t * along[k])).powi(2))
+                    .sum();
+                let s = (((d2 / 3.0).sqrt() - EDGE_STOP) / EDGE_STOP_RAMP).clamp(0.0, 1.0);
+                if s > 0.0 {
+                    let s = s * s;
+                    let v = |k: usize| round_to_byte(255.0 * (p[k] + (cell[k] - p[k]) * s));
+                    *px = tiny_skia::ColorU8::from_rgba(v(0), v(1), v(2), 255).premultiply();
                 }
             }
         });
