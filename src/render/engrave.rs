@@ -9,10 +9,11 @@
 //! tones: light areas paper-white, dark ones nearly solid, and the darkest lines swell past
 //! their share until neighbours merge into solid ink (`merge`). The tone is the photo's lightness
 //! blurred over a fifth of a line spacing (finer than the cells), or `tone` for a field without
-//! a photo. Lines are drawn by the share of each pixel's square they ink (`stripes.rs`: a hairline
-//! keeps its share of ink, a diagonal line no staircase), joined round; a line's own segments take the maximum where they
-//! overlap, neighbouring lines add up (together they ink the pixels they share), and ink is
-//! mixed with the paper in the sRGB encoding, as the hatch looks are ([`super::texture`]).
+//! a photo. Lines are drawn by the share of each pixel's square they ink (`stripes.rs`: a
+//! hairline keeps its share of ink, a diagonal line no staircase), joined round; a line's own
+//! segments take the maximum where they overlap, neighbouring lines add up (together they ink
+//! the pixels they share), and ink is mixed with the paper in the sRGB encoding, as the hatch
+//! looks are ([`super::texture`]).
 //! Coverage is `f32`, geometry `f64` in domain units until it is scaled to output pixels.
 
 use super::colour::{bilinear, lightness, linear_of};

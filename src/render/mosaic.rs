@@ -96,12 +96,13 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
 
 /// Per cell, the width of the leading round it in output pixels: `width` for cells at least
 /// as large (short semi-axis) as the cell under the picture's median pixel, narrowed in
-/// proportion for smaller ones down to [`THINNEST`] of it; a border takes the narrower of its two cells'. A mosaicist sets
-/// small tesserae with thin grout: at the full width, the leading of cells as small as a
-/// letter's stroke (printed text, fine fur, branches) was as dark and as wide as the strokes
-/// themselves, and text became unreadable. The reference is the cells that cover most of the
-/// picture (the median by area, not by count, which the many small cells of a detail would
-/// pull down), so the width a preset or user asks for is what the picture mostly shows.
+/// proportion for smaller ones down to `THINNEST` of it; a border takes the narrower of its
+/// two cells'. A mosaicist sets small tesserae with thin grout: at the full width, the leading
+/// of cells as small as a letter's stroke (printed text, fine fur, branches) was as dark and as
+/// wide as the strokes themselves, and text became unreadable. The reference is the cells that
+/// cover most of the picture (the median by area, not by count, which the many small cells of
+/// a detail would pull down), so the width a preset or user asks for is what the picture
+/// mostly shows.
 #[must_use]
 pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
     // (short semi-axis, area ∝ a·b) per cell.
