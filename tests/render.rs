@@ -572,6 +572,22 @@ fn mosaic_leading_runs_along_every_border_of_the_cells() {
     );
 }
 
+/// `photo` painted with the built-in mosaic and `sets`, seed 1.
+fn mosaic_of(photo: DynamicImage, sets: &[String]) -> RgbImage {
+    let mut preset = anisopaint::style::load("mosaic").unwrap();
+    anisopaint::style::apply_sets(&mut preset, sets).unwrap();
+    let recipe =
+        anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
+    let loaded = input::photo_field(photo, &recipe.field.metric);
+    let extras = anisopaint::paint::Extras {
+        svg: false,
+        labels: false,
+    };
+    anisopaint::paint::paint_loaded(&loaded, &recipe, extras, &anisopaint::progress::Silent)
+        .unwrap()
+        .image
+}
+
 /// A light photo of coloured rings at `w × h`, the same picture at any size.
 fn leading_photo(w: u32, h: u32) -> DynamicImage {
     let s = 1200.0 / f64::from(w);
@@ -593,20 +609,7 @@ fn mosaic_leading_keeps_its_share_of_the_picture_at_large_sizes() {
     // preset's 1.5 px) and at twice that: the cells are the same share of the picture, so the
     // leading must be too. Measured: 0.130 against 0.116 (ratio 1.12). When its width was pixels
     // at any size, the ratio was about 0.5 (a 12 MP mosaic seen whole showed next to none).
-    let paint = |w, h, sets: &[String]| {
-        let mut preset = anisopaint::style::load("mosaic").unwrap();
-        anisopaint::style::apply_sets(&mut preset, sets).unwrap();
-        let recipe =
-            anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
-        let loaded = input::photo_field(leading_photo(w, h), &recipe.field.metric);
-        let extras = anisopaint::paint::Extras {
-            svg: false,
-            labels: false,
-        };
-        anisopaint::paint::paint_loaded(&loaded, &recipe, extras, &anisopaint::progress::Silent)
-            .unwrap()
-            .image
-    };
+    let paint = |w, h, sets: &[String]| mosaic_of(leading_photo(w, h), sets);
     let share = |w, h| {
         let bare = paint(w, h, &["look.border_width=0".to_string()]);
         leading_share(&paint(w, h, &[]), &bare)
@@ -645,20 +648,7 @@ fn small_cells_take_thin_leading() {
     // it narrows with the cell (down to 0.4 of the width), while the large cells of the plain
     // keep the full width. Measured: 0.19 of the print's tone is leading (0.53 at the full
     // width), 0.057 of the plain's.
-    let paint = |sets: &[String]| {
-        let mut preset = anisopaint::style::load("mosaic").unwrap();
-        anisopaint::style::apply_sets(&mut preset, sets).unwrap();
-        let recipe =
-            anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
-        let loaded = input::photo_field(print_photo(900, 300), &recipe.field.metric);
-        let extras = anisopaint::paint::Extras {
-            svg: false,
-            labels: false,
-        };
-        anisopaint::paint::paint_loaded(&loaded, &recipe, extras, &anisopaint::progress::Silent)
-            .unwrap()
-            .image
-    };
+    let paint = |sets: &[String]| mosaic_of(print_photo(900, 300), sets);
     let (led, bare) = (paint(&[]), paint(&["look.border_width=0".to_string()]));
     let half = |img: &RgbImage, left: bool| {
         image::imageops::crop_imm(img, if left { 20 } else { 470 }, 20, 260, 260).to_image()

@@ -5,11 +5,12 @@
 //!
 //! Over a photo, glyphs may stand on a wash of their cell's colour (`ground`), their own
 //! colours solved so that glyph and wash average to the cell's (`placed`), and kept on their
-//! side of the photo's edges (`keep_out_across_edges`); brush strokes are
+//! side of the photo's edges (`edge_stop.rs`); brush strokes are
 //! laid coarse to fine after Hertzmann (1998), finer strokes only where the canvas still
 //! differs from the photo, then strokes half their size where it still does (`refine.rs`).
 
 use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
+use super::edge_stop::{keep_out_across_edges, stop_at_edges};
 use super::raster::Raster;
 use super::scene::Scene;
 use crate::field::blur::round_to_byte;
@@ -17,7 +18,6 @@ use crate::field::Tensor;
 use crate::sampling::rng::Rng;
 use glam::DVec2;
 use image::RgbImage;
-use rayon::prelude::*;
 use tiny_skia::{Color, FillRule, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
 /// Where the glyphs go.
@@ -208,7 +208,17 @@ pub(super) fn painted(
     if let (Some(under), Some(_)) = (&underpainting, scene.cells.colour()) {
         stop_at_edges(pixmap.data_mut(), under.as_raw());
     } else if washed && params.placement == Placement::Relaxed && scene.cells.colour().is_some() {
-        keep_out_across_edges(scene, params, kappa, &mut pixmap);
+        // Per cell: wash, glyph and the cell's own colour, sRGB levels.
+        let levels = |c: Linear| c.map(|v| f32::from(to_srgb(v)));
+        let expected: Vec<[[f32; 3]; 3]> = scene
+            .colours
+            .iter()
+            .map(|&c| {
+                let (ground, glyph) = ground_and_glyph(params, c, kappa);
+                [levels(ground), levels(glyph), levels(c)]
+            })
+            .collect();
+        keep_out_across_edges(scene, &expected, &mut pixmap);
     }
     if let Some(r) = &refine {
         let mut index = glyphs.len() as u32;
@@ -275,90 +285,6 @@ fn rgba_to_rgb_in_place(mut data: Vec<u8>) -> Vec<u8> {
     data.shrink_to_fit();
     data
 }
-
-/// Strokes stop at edges: where a stroke laid over the underpainting of edge-following cells
-/// differs from the cell under it by more than [`EDGE_STOP`] (sRGB, RMS over channels), it has
-/// crossed an edge from a neighbour of another colour, and the cell shows through again
-/// (fully from `EDGE_STOP + EDGE_STOP_RAMP` on, so the stroke's end fades, not cuts). A
-/// stroke among cells of its own colour is untouched; a thin dark line overpainted by strokes
-/// of the light ground around it comes back.
-fn stop_at_edges(painted: &mut [u8], under: &[u8]) {
-    painted
-        .par_chunks_mut(4)
-        .zip(under.par_chunks(3))
-        .for_each(|(p, u)| {
-            let d2: f32 = (0..3)
-                .map(|k| ((f32::from(p[k]) - f32::from(u[k])) / 255.0).powi(2))
-                .sum();
-            let t = ((((d2 / 3.0).sqrt() - EDGE_STOP) / EDGE_STOP_RAMP).clamp(0.0, 1.0)).powi(2);
-            if t > 0.0 {
-                for k in 0..3 {
-                    let v = f32::from(p[k]) + (f32::from(u[k]) - f32::from(p[k])) * t;
-                    p[k] = round_to_byte(v);
-                }
-            }
-        });
-}
-
-/// Glyphs stay on their side of an edge: a pixel of a cell whose colour is neither its wash,
-/// its own glyph's nor a blend of the two (farther than [`EDGE_STOP`] from that segment, sRGB,
-/// RMS over channels) is a neighbour's glyph reaching across the cell's border, and takes the
-/// cell's colour instead (fully from `EDGE_STOP + EDGE_STOP_RAMP` on). The cells follow the
-/// photo's edges (their colour term), so an object's outline is the cells' border, not a rim of
-/// ellipses poking out of it; where neighbours' colours are close, glyphs overlap as before.
-fn keep_out_across_edges(scene: &Scene, params: &GlyphParams, kappa: f32, pixmap: &mut Pixmap) {
-    let encoded = |c: Linear| c.map(|v| f32::from(to_srgb(v)) / 255.0);
-    // Per cell: wash, glyph and the cell's own colour, sRGB in [0, 1].
-    let expected: Vec<[[f32; 3]; 3]> = scene
-        .colours
-        .iter()
-        .map(|&c| {
-            let (ground, glyph) = ground_and_glyph(params, c, kappa);
-            [encoded(ground), encoded(glyph), encoded(c)]
-        })
-        .collect();
-    let r = scene.raster;
-    let centres = Raster {
-        supersample: 1,
-        ..r
-    };
-    let w = r.width;
-    scene
-        .cells
-        .site_rows(&centres, pixmap.pixels_mut(), w, |_, sites, row| {
-            for (px, &site) in row.iter_mut().zip(sites) {
-                let Some(&[wash, glyph, cell]) = expected.get(site as usize) else {
-                    continue;
-                };
-                let c = px.demultiply();
-                let p = [c.red(), c.green(), c.blue()].map(|v| f32::from(v) / 255.0);
-                let along: [f32; 3] = std::array::from_fn(|k| glyph[k] - wash[k]);
-                let length2: f32 = along.iter().map(|v| v * v).sum();
-                let t = if length2 > 0.0 {
-                    ((0..3).map(|k| (p[k] - wash[k]) * along[k]).sum::<f32>() / length2)
-                        .clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let d2: f32 = (0..3)
-                    .map(|k| (p[k] - (wash[k] + t * along[k])).powi(2))
-                    .sum();
-                let s = (((d2 / 3.0).sqrt() - EDGE_STOP) / EDGE_STOP_RAMP).clamp(0.0, 1.0);
-                if s > 0.0 {
-                    let s = s * s;
-                    let v = |k: usize| round_to_byte(255.0 * (p[k] + (cell[k] - p[k]) * s));
-                    *px = tiny_skia::ColorU8::from_rgba(v(0), v(1), v(2), 255).premultiply();
-                }
-            }
-        });
-}
-
-/// Colour difference (sRGB, RMS over channels) from which a stroke gives way to the cell
-/// under it: bristle shading stays below it (±15 %), a neighbour across an edge above.
-const EDGE_STOP: f32 = 0.12;
-
-/// Over this much more difference the cell shows through fully.
-const EDGE_STOP_RAMP: f32 = 0.1;
 
 /// Bristle streaks of a brush stroke: this many across its width.
 const BRISTLES: usize = 7;

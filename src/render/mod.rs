@@ -17,6 +17,7 @@ pub mod cells;
 pub mod colour;
 pub mod colour_term;
 mod disjoint;
+mod edge_stop;
 pub mod engrave;
 pub mod fabric;
 pub mod font;
