@@ -5,9 +5,9 @@
 //!
 //! Over a photo, glyphs may stand on a wash of their cell's colour (`ground`), their own
 //! colours solved so that glyph and wash average to the cell's (`placed`), and kept on their
-//! side of the photo's edges (`edge_stop.rs`); brush strokes are
-//! laid coarse to fine after Hertzmann (1998), finer strokes only where the canvas still
-//! differs from the photo, then strokes half their size where it still does (`refine.rs`).
+//! side of the photo's edges (`edge_stop.rs`); brush strokes are laid coarse to fine after
+//! Hertzmann (1998), finer strokes only where the canvas still differs from the photo, then
+//! strokes half their size where it still does (`refine.rs`).
 
 use super::colour::{anisotropy_colour, linear_of, salt, to_srgb, Linear};
 use super::edge_stop::{keep_out_across_edges, stop_at_edges};

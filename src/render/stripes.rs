@@ -1,10 +1,12 @@
 //! The share of a pixel that a family of parallel lines ([`stripe_coverage`]) or a single
 //! band ([`band_coverage`]) covers, exactly: the hatched looks' lines (paper section 6's hatch
-//! textures) and the engraving's anti-aliased by the area they ink in each pixel's square. Across the lines, that square's footprint is its projection on their normal, a
-//! trapezoid: the convolution of two boxes `|n_x|` and `|n_y|` pixels wide (`n` the normal in
-//! picture coordinates), so one pixel wide for lines along an axis and a triangle √2 pixels
-//! wide at 45°. The lines' ink convolved with it is a second difference of the ink's second
-//! antiderivative, which is closed-form for evenly spaced lines ([`inked_twice`]).
+//! textures) and the engraving's, anti-aliased by the area they ink in each pixel's square.
+//! Across the lines, that square's footprint is its projection on their normal, a trapezoid:
+//! the convolution of two boxes `|n_x|` and `|n_y|` pixels wide (`n` the normal in picture
+//! coordinates), so one pixel wide for lines along an axis and a triangle √2 pixels wide at
+//! 45°. The lines' ink convolved with it is a second difference of the ink's second
+//! antiderivative ([`footprint_mean`]), which is closed-form for evenly spaced lines
+//! ([`inked_twice`]) and for one band.
 //!
 //! A box one pixel wide across lines at 45° is narrower than the pixel they cross: it kept
 //! more of the lines' harmonics than the pixel grid can hold, and fine diagonal hatching beat
@@ -31,16 +33,12 @@ pub(super) fn stripe_coverage(w: f64, half: f64, foot: [f64; 2]) -> f32 {
     if (lo >= -half && hi <= half) || (lo >= 1.0 - half && hi <= 1.0 + half) {
         return 1.0;
     }
-    let share = if narrow < NARROWEST * wide {
-        // A box: the ink's first difference (the trapezoid is a box to within this).
-        let once = |x: f64| inked_once(x, half);
-        (once(w + 0.5 * wide) - once(w - 0.5 * wide)) / wide
-    } else {
-        let twice = |x: f64| inked_twice(x, half);
-        let (outer, inner) = (0.5 * (wide + narrow), 0.5 * (wide - narrow));
-        (twice(w + outer) - twice(w + inner) - twice(w - inner) + twice(w - outer))
-            / (wide * narrow)
-    };
+    let share = footprint_mean(
+        w,
+        (wide, narrow),
+        |x| inked_once(x, half),
+        |x| inked_twice(x, half),
+    );
     share.clamp(0.0, 1.0) as f32
 }
 
@@ -59,24 +57,38 @@ pub(super) fn band_coverage(d: f64, half: f64, foot: [f64; 2]) -> f32 {
     if d + reach <= half {
         return 1.0;
     }
-    let share = if narrow < NARROWEST * wide {
-        let once = |x: f64| (x + half).clamp(0.0, 2.0 * half);
-        (once(d + 0.5 * wide) - once(d - 0.5 * wide)) / wide
-    } else {
-        // `∫ once`: 0 before the band, a parabola across it, a line of slope 2·half after.
-        let twice = |x: f64| {
-            let inside = (x + half).clamp(0.0, 2.0 * half);
-            0.5 * inside * inside + 2.0 * half * (x - half).max(0.0)
-        };
-        let (outer, inner) = (reach, 0.5 * (wide - narrow));
-        (twice(d + outer) - twice(d + inner) - twice(d - inner) + twice(d - outer))
-            / (wide * narrow)
+    // The band's ink from −∞ to x, and its integral: 0 before the band, a parabola across
+    // it, a line of slope 2·half after.
+    let once = |x: f64| (x + half).clamp(0.0, 2.0 * half);
+    let twice = |x: f64| {
+        let inside = (x + half).clamp(0.0, 2.0 * half);
+        0.5 * inside * inside + 2.0 * half * (x - half).max(0.0)
     };
-    share.clamp(0.0, 1.0) as f32
+    footprint_mean(d, (wide, narrow), once, twice).clamp(0.0, 1.0) as f32
 }
 
-/// Below this ratio of its two widths, the trapezoid is taken as a box of the wider: the
-/// second difference divides by the narrower width, and near zero loses its precision.
+/// The mean of an ink profile over a pixel's footprint centred at `w`, the trapezoid of boxes
+/// `wide` and `narrow` wide, from the ink's first and second antiderivatives `once` and
+/// `twice`: the second difference of `twice` over the trapezoid's corners, or the first
+/// difference of `once` over the wider box where the narrower is under [`NARROWEST`] of it.
+fn footprint_mean(
+    w: f64,
+    (wide, narrow): (f64, f64),
+    once: impl Fn(f64) -> f64,
+    twice: impl Fn(f64) -> f64,
+) -> f64 {
+    if narrow < NARROWEST * wide {
+        (once(w + 0.5 * wide) - once(w - 0.5 * wide)) / wide
+    } else {
+        let (outer, inner) = (0.5 * (wide + narrow), 0.5 * (wide - narrow));
+        (twice(w + outer) - twice(w + inner) - twice(w - inner) + twice(w - outer))
+            / (wide * narrow)
+    }
+}
+
+/// Below this ratio of its two widths, the trapezoid is taken as a box of the wider (to within
+/// this it is one): the second difference divides by the narrower width, and near zero loses
+/// its precision.
 const NARROWEST: f64 = 0.02;
 
 /// `∫₀ˣ ink`: the ink from 0 to `x` of lines of half width `half` centred on the integers.
