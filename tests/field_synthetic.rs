@@ -140,3 +140,74 @@ fn same_look_at_two_resolutions() {
         assert!((ra / rb - 1.0).abs() < 0.25, "at ({x}, {y}): {ra} vs {rb}");
     }
 }
+
+/// `f` plus white Gaussian grain of deviation `sigma` (0–1 units) per pixel, the same in the
+/// three channels (Box–Muller on a seeded linear congruential generator).
+fn grainy_image(w: u32, h: u32, sigma: f64, f: impl Fn(f64, f64) -> f64) -> DynamicImage {
+    let mut state = 7u64;
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let img = RgbImage::from_fn(w, h, |x, y| {
+        let (u, v) = (uniform().max(1e-12), uniform());
+        let grain = (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos();
+        let value = f(f64::from(x) + 0.5, f64::from(y) + 0.5) + sigma * grain;
+        let v = (value.clamp(0.0, 1.0) * 255.0).round() as u8;
+        Rgb([v, v, v])
+    });
+    DynamicImage::ImageRgb8(img)
+}
+
+/// Median of `1 − b/a` and of the short semi-axis `b` over the interior nodes.
+fn median_anisotropy_and_size(metric: &TensorField) -> (f64, f64) {
+    let (mut anisotropy, mut size): (Vec<f64>, Vec<f64>) = interior_nodes(metric, 20.0)
+        .into_iter()
+        .map(|p| {
+            let e = metric.sample(p).eigen();
+            (1.0 - e.l2 / e.l1, e.l2)
+        })
+        .unzip();
+    anisotropy.sort_by(f64::total_cmp);
+    size.sort_by(f64::total_cmp);
+    (anisotropy[anisotropy.len() / 2], size[size.len() / 2])
+}
+
+#[test]
+fn grain_alone_gives_round_large_ellipses() {
+    let params = MetricParams::default();
+    let img = grainy_image(360, 240, 3.0 / 255.0, |_, _| 0.45);
+    let (raw, metric) = photo_metric(&img, &params);
+    let (anisotropy, size) = median_anisotropy_and_size(&metric);
+    let max = params.max_size * metric.diagonal();
+    assert!(anisotropy < 0.02, "grain turned the ellipses: {anisotropy}");
+    assert!(
+        size > 0.8 * max,
+        "grain made small ellipses: {size} of {max}"
+    );
+    // The same tensor read as if it held no noise: the grain is the photo's finest detail.
+    let blind = anisopaint::field::metric::metric_from_structure(&raw, &params);
+    let (anisotropy, size) = median_anisotropy_and_size(&blind);
+    assert!(anisotropy > 0.05 && size < 0.5 * max, "{anisotropy} {size}");
+}
+
+#[test]
+fn a_disc_under_grain_keeps_its_tangent_ellipses() {
+    let params = MetricParams::default();
+    let (cx, cy, radius) = (128.0, 120.0, 70.0);
+    let img = grainy_image(256, 240, 3.0 / 255.0, |x, y| {
+        let r = ((x - cx).powi(2) + (y - cy).powi(2)).sqrt();
+        (radius + 0.5 - r).clamp(0.0, 1.0) * 0.3 + 0.35
+    });
+    let (_, metric) = photo_metric(&img, &params);
+    for k in 0..36 {
+        let phi = f64::from(k) * 2.0 * PI / 36.0;
+        let e = metric
+            .sample(DVec2::new(cx + radius * phi.cos(), cy + radius * phi.sin()))
+            .eigen();
+        assert!(axis_difference_deg(e.angle, phi + PI / 2.0) < 5.0, "{e:?}");
+        assert!(e.l1 > 2.0 * e.l2, "edge ellipses stay elongated: {e:?}");
+    }
+}

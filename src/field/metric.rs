@@ -4,9 +4,10 @@
 //! semi-axes in pixels. From a photo's structure tensor `J` (eigenvalues `λ1 ≥ λ2`):
 //! - the long axis `a` lies along the edge, orthogonal to the gradient (the "orthogonal vector
 //!   field");
-//! - the short axis `b` (the *size*) follows detail `√(λ1 + λ2)`, the local RMS gradient: it
-//!   goes geometrically from `max_size` in flat areas to `min_size` where the detail reaches
-//!   its `detail_quantile` over the photo, both sizes fractions of the image diagonal;
+//! - the short axis `b` (the *size*) follows detail `√(λ1 + λ2)`, the local RMS gradient, read
+//!   above the photo's grain ([`GRAIN_MARGIN`]): it goes geometrically from `max_size` in flat
+//!   areas to `min_size` where the detail reaches its `detail_quantile` over the photo, both
+//!   sizes fractions of the image diagonal;
 //! - the anisotropy `a/b` grows with coherence `(λ1 − λ2)/(λ1 + λ2)` up to `max_anisotropy`;
 //! - section 3 asks that neighbouring samples differ little: the size map is limited to grow at
 //!   most `gradation` pixels per pixel (so two touching ellipses differ by at most a factor of
@@ -130,6 +131,11 @@ impl MetricParams {
     }
 }
 
+/// Grain's share of the structure tensor's trace varies from place to place about its
+/// expectation ([`super::noise::noise_energy`]); at this many times the expectation it is left
+/// behind everywhere but in rare specks, so detail is read above it.
+pub const GRAIN_MARGIN: f64 = 3.0;
+
 /// Detail below this RMS gradient (linear light per analysis pixel) counts as flat even in a
 /// photo with no structure at all, so a flat photo gets `max_size` everywhere.
 const DETAIL_FLOOR: f64 = 2e-3;
@@ -138,6 +144,20 @@ const DETAIL_FLOOR: f64 = 2e-3;
 /// node spacing and domain are those of the photo). Semi-axes are in photo pixels.
 #[must_use]
 pub fn metric_from_structure(j: &TensorField, params: &MetricParams) -> TensorField {
+    metric_from_structure_over_noise(j, 0.0, params)
+}
+
+/// [`metric_from_structure`] for a tensor whose trace holds `noise`, the photo's grain
+/// ([`super::noise::noise_energy`]): the detail that sets the sizes and lets the anisotropy in
+/// is the trace above what grain reaches, `√max(λ1 + λ2 − GRAIN_MARGIN·noise, 0)`, so grain
+/// alone neither shrinks the ellipses nor turns them every way; the detail reference is at
+/// least that of the margin, so a photo of grain alone keeps large ones.
+#[must_use]
+pub fn metric_from_structure_over_noise(
+    j: &TensorField,
+    noise: f64,
+    params: &MetricParams,
+) -> TensorField {
     let (cols, rows) = (j.cols(), j.rows());
     let diag = j.diagonal();
     let spacing = j.spacing();
@@ -148,9 +168,13 @@ pub fn metric_from_structure(j: &TensorField, params: &MetricParams) -> TensorFi
         .collect();
     let detail: Vec<f64> = eigen
         .iter()
-        .map(|e| (e.l1 + e.l2).max(0.0).sqrt())
+        .map(|e| (e.l1 + e.l2 - GRAIN_MARGIN * noise).max(0.0).sqrt())
         .collect();
-    let reference = quantile(&detail, params.detail_quantile).max(DETAIL_FLOOR);
+    // Detail within the grain's own level never reaches `min_size`: a photo of grain alone
+    // (a fogged sky, a blank wall) is painted with large cells.
+    let reference = quantile(&detail, params.detail_quantile)
+        .max(DETAIL_FLOOR)
+        .max((GRAIN_MARGIN * noise).sqrt());
 
     // Size (short semi-axis) in analysis pixels, geometric between max and min.
     let (max_px, min_px) = (
@@ -167,7 +191,7 @@ pub fn metric_from_structure(j: &TensorField, params: &MetricParams) -> TensorFi
         .collect();
     limit_gradation(&mut size, cols, rows, params.gradation as f32);
 
-    // Anisotropy: coherence, faded out where the detail is near the noise floor.
+    // Anisotropy: coherence, faded out where the detail (above the grain) is near the floor.
     let mut anisotropy: Vec<f32> = eigen
         .par_iter()
         .zip(&detail)

@@ -5,6 +5,7 @@
 //! - [`grid`]: a tensor field on a regular grid with bilinear interpolation;
 //! - [`blur`]: the parallel Gaussian blur behind the structure tensor;
 //! - [`structure`]: the colour structure tensor of a photo at analysis resolution;
+//! - [`noise`]: the photo's grain and the trace it adds to that tensor;
 //! - [`metric`]: structure tensor → metric, and the anti-symmetric mapping of general tensors;
 //! - [`analytic`]: named analytic fields.
 //!
@@ -15,6 +16,7 @@ pub mod analytic;
 pub mod blur;
 pub mod grid;
 pub mod metric;
+pub mod noise;
 pub mod structure;
 pub mod tensor;
 
@@ -62,14 +64,15 @@ pub fn flatten_on_paper(photo: DynamicImage) -> DynamicImage {
 /// band-limited there: its spectrum at the coarse grid's Nyquist frequency is below 1e-8, and
 /// the coarse grid loses nothing bilinear interpolation needs, while every step of the metric
 /// (eigen-decomposition, sizes, gradation, smoothing) works on a quarter of the nodes or fewer.
+/// The metric reads only the detail above the photo's grain ([`noise`]).
 #[must_use]
 pub fn photo_metric(photo: &DynamicImage, params: &MetricParams) -> (TensorField, TensorField) {
-    let raw = photo_structure_tensor(photo, params);
+    let (raw, noise) = structure_and_noise(photo, params);
     let step = metric_step(&raw, params);
     let metric = if step > 1 {
-        metric::metric_from_structure(&raw.coarsened(step), params)
+        metric::metric_from_structure_over_noise(&raw.coarsened(step), noise, params)
     } else {
-        metric::metric_from_structure(&raw, params)
+        metric::metric_from_structure_over_noise(&raw, noise, params)
     };
     (raw, metric)
 }
@@ -85,17 +88,22 @@ pub fn metric_step(tensor: &TensorField, params: &MetricParams) -> usize {
 /// The structure tensor of `photo` at analysis resolution, as a field over the photo's pixels.
 #[must_use]
 pub fn photo_structure_tensor(photo: &DynamicImage, params: &MetricParams) -> TensorField {
+    structure_and_noise(photo, params).0
+}
+
+/// [`photo_structure_tensor`] and the trace its noise adds ([`noise::noise_energy`]).
+fn structure_and_noise(photo: &DynamicImage, params: &MetricParams) -> (TensorField, f64) {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
     let factor = structure::analysis_factor(w, h, params.analysis_diagonal);
     let lin = structure::linear_analysis_image(photo, factor);
     let diag = ((lin.width * lin.width + lin.height * lin.height) as f64).sqrt();
     let (cols, rows) = (lin.width, lin.height);
-    let j = structure::structure_tensor(
-        lin,
-        (params.noise_sigma * diag) as f32,
-        (params.integration_sigma * diag) as f32,
-    );
-    TensorField::with_spacing(cols, rows, factor as f64, (w as f64, h as f64), j)
+    let pre_smoothing = (params.noise_sigma * diag) as f32;
+    let noise = noise::noise_energy(&lin, pre_smoothing);
+    let j =
+        structure::structure_tensor(lin, pre_smoothing, (params.integration_sigma * diag) as f32);
+    let field = TensorField::with_spacing(cols, rows, factor as f64, (w as f64, h as f64), j);
+    (field, noise)
 }
 
 #[cfg(test)]
