@@ -13,7 +13,7 @@
 //! `f32` for the image and its responses, as in [`super::structure`]; `f64` for the energies.
 
 use super::blur::gaussian_blur_parallel_mut;
-use super::structure::LinearImage;
+use super::structure::{gradient_products, LinearImage};
 use rayon::prelude::*;
 
 /// The expected trace `Σ_c σ_c²·E` that the noise of `img` adds to its structure tensor
@@ -61,33 +61,23 @@ pub fn channel_sigma(img: &LinearImage, c: usize) -> f64 {
 }
 
 /// Energy `Σ (h_x² + h_y²)` of the impulse responses `h_x`, `h_y` of a Gaussian blur of
-/// `sigma` pixels followed by the normalised Scharr derivatives ([`super::structure`]): what
-/// unit-variance white noise adds to `J`'s trace per channel. Computed on an impulse, with the
-/// same blur the structure tensor uses.
+/// `sigma` pixels followed by the normalised Scharr derivatives: what unit-variance white
+/// noise adds to `J`'s trace per channel. Computed on an impulse with the blur and the
+/// gradient products the structure tensor itself uses ([`gradient_products`]).
 #[must_use]
 pub fn response_energy(sigma: f32) -> f64 {
     let radius = (4.0 * sigma.max(0.0)).ceil() as usize + 2;
     let side = 2 * radius + 1;
-    let mut impulse = vec![0.0f32; side * side];
-    impulse[radius * side + radius] = 1.0;
+    // One channel holds the impulse; the others are zero and add nothing.
+    let mut impulse = vec![0.0f32; 3 * side * side];
+    impulse[3 * (radius * side + radius)] = 1.0;
     if sigma > 0.0 {
-        gaussian_blur_parallel_mut(&mut impulse, side, side, 1, sigma);
+        gaussian_blur_parallel_mut(&mut impulse, side, side, 3, sigma);
     }
-    let at = |x: usize, y: usize| f64::from(impulse[y * side + x]);
-    let (edge, middle) = (0.093_75, 0.3125);
-    let mut energy = 0.0;
-    for y in 1..side - 1 {
-        for x in 1..side - 1 {
-            let gx = edge
-                * (at(x + 1, y - 1) - at(x - 1, y - 1) + at(x + 1, y + 1) - at(x - 1, y + 1))
-                + middle * (at(x + 1, y) - at(x - 1, y));
-            let gy = edge
-                * (at(x - 1, y + 1) - at(x - 1, y - 1) + at(x + 1, y + 1) - at(x + 1, y - 1))
-                + middle * (at(x, y + 1) - at(x, y - 1));
-            energy += gx * gx + gy * gy;
-        }
-    }
-    energy
+    gradient_products(&impulse, side, side)
+        .iter()
+        .map(|t| f64::from(t[0]) + f64::from(t[2]))
+        .sum()
 }
 
 #[cfg(test)]
@@ -95,8 +85,9 @@ mod tests {
     use super::*;
     use crate::field::structure::structure_tensor;
 
-    /// A `w × h` image: a ramp rising `2·slope` per pixel along x and `slope` along y, plus white Gaussian noise of deviation `sigma` in every
-    /// channel (Box–Muller on a 64-bit linear congruential generator's top 53 bits).
+    /// A `w × h` image: a ramp rising `2·slope` per pixel along x and `slope` along y, plus
+    /// white Gaussian noise of deviation `sigma` in every channel (Box–Muller on a 64-bit
+    /// linear congruential generator's top 53 bits).
     fn noisy_ramp(w: usize, h: usize, sigma: f64, slope: f64, seed: u64) -> LinearImage {
         let mut state = seed;
         let mut uniform = || {
