@@ -2,9 +2,9 @@
 //! ramp of lightness from black to white, hatched and seen from afar (blurred at σ = 4 px,
 //! averaged down each column band), is a monotone ramp within 0.1 of the photo's own (on a 0–1
 //! scale) after the tone curve its preset asks for (`look.gamma`: lightness `1 − (1 − L)^γ`),
-//! light areas paper, dark ones dense. Flat tones stipple without paper showing through; soft
-//! spots keep their depth in hatching; strokes keep what is smaller than their cells; glyphs
-//! keep a black area black.
+//! light areas paper, dark ones dense. Flat tones stipple without paper showing through and
+//! keep their grey (pointillist); soft spots keep their depth in hatching; strokes keep what is
+//! smaller than their cells; glyphs keep a black area black.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -120,6 +120,44 @@ fn pointillist_dots_leave_no_crackle_of_paper() {
             "tone {tone:?}: paper on {:.2} %",
             100.0 * share
         );
+    }
+}
+
+#[test]
+fn pointillist_keeps_flat_tones() {
+    // Flat greys from dark to light, painted pointillist, read from afar (the mean luma of the
+    // band's middle) as the photo's own grey within 3 levels: the dots take the photo's colour,
+    // each a little off it, and cover the paper. Dots darkened by a quarter under a tone curve
+    // of γ = 0.7 read 90 as 78, 200 as 175. White, lighter than the paper, is bare paper: no
+    // dot of jittered near-white on it.
+    let greys = [40u8, 90, 140, 200, 235, 255];
+    let band = W / 6;
+    let photo = RgbImage::from_fn(W, H, |x, _| {
+        let v = greys[(x / band).min(5) as usize];
+        image::Rgb([v, v, v])
+    });
+    let img = painted(&photo, "pointillist", &[], 5);
+    let paper = luma([0xfb, 0xfa, 0xf6]);
+    for (k, &grey) in greys.iter().enumerate() {
+        let k = k as u32;
+        let lumas: Vec<f64> = (16..H - 16)
+            .flat_map(|y| (k * band + 10..(k + 1) * band - 10).map(move |x| (x, y)))
+            .map(|(x, y)| luma(img.get_pixel(x, y).0))
+            .collect();
+        let mean = lumas.iter().sum::<f64>() / lumas.len() as f64;
+        if grey == 255 {
+            let darkest = lumas.iter().copied().fold(f64::INFINITY, f64::min);
+            let dotted = lumas.iter().filter(|&&l| l < paper - 1.0).count();
+            assert!(
+                dotted == 0,
+                "{dotted} dotted pixels on white, darkest luma {darkest:.1}"
+            );
+        } else {
+            assert!(
+                (mean - f64::from(grey)).abs() <= 3.0,
+                "grey {grey} reads {mean:.1}"
+            );
+        }
     }
 }
 

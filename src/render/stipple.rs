@@ -13,7 +13,8 @@ use glam::DVec2;
 /// Ink coverage (0 to 1) at `local` (domain units in the cell's frame) of the dots of cell
 /// `site`, on a lattice of period `s`, of radius `radius` periods, anti-aliased over a pixel of
 /// `px` domain units; and the centre (the same units) of the dot that gives it (`local` where
-/// none does).
+/// none does). Dots of no radius ink nothing (the anti-aliasing ramp alone would still lay half
+/// a pixel's ink at each centre: faint specks on bare paper).
 pub(super) fn dot_coverage_at(
     local: DVec2,
     site: u32,
@@ -21,6 +22,9 @@ pub(super) fn dot_coverage_at(
     radius: f64,
     px: f64,
 ) -> (f32, DVec2) {
+    if radius <= 0.0 {
+        return (0.0, local);
+    }
     let q = local / s;
     let cell = DVec2::new(floor(q.x), floor(q.y));
     let r = s * radius;

@@ -181,8 +181,8 @@ pub const FLAT_SPACING: f64 = 0.006;
 /// that gives that lightness between the paper's and the ink's,
 /// `(paper − target) / (paper − ink)` (all perceived lightness, the sRGB encoding of the
 /// luminance, which is what ink on paper averages to at a distance, since the
-/// shading mixes paper and ink in that encoding too): a light cell on off-white paper takes
-/// no ink, and coloured dots cover as much as their own colour needs. A cell darker than the
+/// shading mixes paper and ink in that encoding too): a cell as light as the paper or lighter
+/// takes no ink, and coloured dots cover as much as their own colour needs. A cell darker than the
 /// ink itself is covered and inked again (a second layer over the first, as a pen goes over a
 /// solid black), its ink darkened to the target, down to black for a black photo.
 #[must_use]
@@ -204,6 +204,12 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
                 // 8-bit encoding can be a level off the target, which gave a coverage just
                 // short of 1 and single white pixels of paper in black areas.)
                 return (1.0, ink);
+            }
+            // A tone as light as the paper or lighter is bare paper: ink in the photo's own
+            // colour would be lighter than the paper (`room` ≤ 0) and cover the cell whole, a
+            // speckle of jittered near-white dots on a white ground.
+            if target >= paper {
+                return (0.0, ink);
             }
             let room = paper - lightness(ink);
             let cover = if room > 1e-3 {
