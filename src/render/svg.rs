@@ -63,10 +63,15 @@ pub(super) fn svg_of_laid(
     );
     match look {
         Look::Mosaic(p) => {
-            let colours: Vec<Linear> = (0..scene.colours.len())
-                .map(|i| p.jittered(scene.colours[i], i as u32))
-                .collect();
             let widths = super::mosaic::leading_widths(scene, scene.border_px(p.border_width));
+            let lit = super::mosaic::lit_through_leading(
+                scene,
+                &widths,
+                super::colour::linear_of(p.border_colour),
+            );
+            let colours: Vec<Linear> = (0..lit.len())
+                .map(|i| p.jittered(lit[i], i as u32))
+                .collect();
             let border =
                 (p.border_width > 0.0).then_some((p.border_colour, Leading::PerCell(&widths)));
             cells(&mut out, scene, &colours, border);
