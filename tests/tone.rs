@@ -110,10 +110,7 @@ fn pointillist_dots_leave_no_crackle_of_paper() {
     let img = painted(&photo, "pointillist", &[], 3);
     for (k, &tone) in tones.iter().enumerate() {
         let k = k as u32;
-        let pixels: Vec<f64> = (16..H - 16)
-            .flat_map(|y| (k * band + 16..(k + 1) * band - 16).map(move |x| (x, y)))
-            .map(|(x, y)| luma(img.get_pixel(x, y).0))
-            .collect();
+        let pixels = band_lumas(&img, k * band..(k + 1) * band, 16);
         let bare = pixels.iter().filter(|&&l| l >= luma(tone) + 40.0).count();
         let share = bare as f64 / pixels.len() as f64;
         assert!(
@@ -122,6 +119,28 @@ fn pointillist_dots_leave_no_crackle_of_paper() {
             100.0 * share
         );
     }
+}
+
+/// The lumas of the column band `columns` of `img`, `margin` pixels clear of its sides and
+/// 16 clear of the picture's top and bottom.
+fn band_lumas(img: &RgbImage, columns: std::ops::Range<u32>, margin: u32) -> Vec<f64> {
+    (16..H - 16)
+        .flat_map(|y| (columns.start + margin..columns.end - margin).map(move |x| (x, y)))
+        .map(|(x, y)| luma(img.get_pixel(x, y).0))
+        .collect()
+}
+
+/// The grey a painting of a flat photo reads as from afar: its mean luma, 16 pixels clear of
+/// the picture's borders.
+fn flat_grey_read(img: &RgbImage) -> f64 {
+    let (mut sum, mut n) = (0.0, 0.0);
+    for y in 16..H - 16 {
+        for x in 16..W - 16 {
+            sum += luma(img.get_pixel(x, y).0);
+            n += 1.0;
+        }
+    }
+    sum / n
 }
 
 #[test]
@@ -133,15 +152,7 @@ fn ink_looks_keep_flat_greys() {
     for grey in [50u8, 90, 140, 200] {
         let photo = RgbImage::from_pixel(W, H, image::Rgb([grey; 3]));
         for style in ["pen-hatch", "crosshatch", "engraving"] {
-            let img = painted(&photo, style, &[], 4);
-            let (mut sum, mut n) = (0.0, 0.0);
-            for y in 16..H - 16 {
-                for x in 16..W - 16 {
-                    sum += luma(img.get_pixel(x, y).0);
-                    n += 1.0;
-                }
-            }
-            let mean = sum / n;
+            let mean = flat_grey_read(&painted(&photo, style, &[], 4));
             assert!(
                 (mean - f64::from(grey)).abs() <= 3.0,
                 "{style}: grey {grey} reads {mean:.1}"
@@ -157,15 +168,7 @@ fn the_mosaic_keeps_flat_greys_under_its_leading() {
     // cell its dark leading covers. Unlifted, 200 read 182 and 120 read 110.
     for grey in [60u8, 120, 200] {
         let photo = RgbImage::from_pixel(W, H, image::Rgb([grey; 3]));
-        let img = painted(&photo, "mosaic", &[], 4);
-        let (mut sum, mut n) = (0.0, 0.0);
-        for y in 16..H - 16 {
-            for x in 16..W - 16 {
-                sum += luma(img.get_pixel(x, y).0);
-                n += 1.0;
-            }
-        }
-        let mean = sum / n;
+        let mean = flat_grey_read(&painted(&photo, "mosaic", &[], 4));
         assert!(
             (mean - f64::from(grey)).abs() <= 5.0,
             "grey {grey} reads {mean:.1}"
@@ -190,10 +193,7 @@ fn pointillist_keeps_flat_tones() {
     let paper = luma([0xfb, 0xfa, 0xf6]);
     for (k, &grey) in greys.iter().enumerate() {
         let k = k as u32;
-        let lumas: Vec<f64> = (16..H - 16)
-            .flat_map(|y| (k * band + 10..(k + 1) * band - 10).map(move |x| (x, y)))
-            .map(|(x, y)| luma(img.get_pixel(x, y).0))
-            .collect();
+        let lumas = band_lumas(&img, k * band..(k + 1) * band, 10);
         let mean = lumas.iter().sum::<f64>() / lumas.len() as f64;
         if grey == 255 {
             let darkest = lumas.iter().copied().fold(f64::INFINITY, f64::min);
