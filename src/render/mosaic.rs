@@ -63,9 +63,9 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let border = super::colour::linear_of(params.border_colour);
     let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
-    // The cell's colour with its relief at `p`, from the site's `δ²` there.
     let leading = leading_widths(scene, width);
     let colours = lit_through_leading(scene, &leading, border);
+    // The cell's colour with its relief at `p`, from the site's `δ²` there.
     let inside = |p: DVec2, delta_squared: f64, o: &Owner| {
         let mut c = params.jittered(colours[o.site as usize], o.site);
         if let Some(tilts) = &tilts {

@@ -182,9 +182,9 @@ pub const FLAT_SPACING: f64 = 0.006;
 /// `(paper − target) / (paper − ink)` (all perceived lightness, the sRGB encoding of the
 /// luminance, which is what ink on paper averages to at a distance, since the
 /// shading mixes paper and ink in that encoding too): a cell as light as the paper or lighter
-/// takes no ink, and coloured dots cover as much as their own colour needs. A cell darker than the
-/// ink itself is covered and inked again (a second layer over the first, as a pen goes over a
-/// solid black), its ink darkened to the target, down to black for a black photo.
+/// takes no ink, and coloured dots cover as much as their own colour needs. A cell darker than
+/// the ink itself is covered and inked again (a second layer over the first, as a pen goes
+/// over a solid black), its ink darkened to the target, down to black for a black photo.
 #[must_use]
 pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linear)> {
     let paper = lightness(linear_of(params.paper));
@@ -196,6 +196,12 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
                 Ink::Fixed(rgb) => linear_of(rgb),
                 Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
             };
+            // A tone as light as the paper or lighter is bare paper: ink in the photo's own
+            // colour would be as light as the tone, lighter than the paper, and cover the cell
+            // whole, a speckle of jittered near-white dots on a white ground.
+            if target >= paper {
+                return (0.0, ink);
+            }
             let ink_luminance = super::colour::luminance(ink);
             if target < lightness(ink) && ink_luminance > 0.0 {
                 let k = crate::field::structure::srgb_to_linear(target) / ink_luminance;
@@ -204,12 +210,6 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
                 // 8-bit encoding can be a level off the target, which gave a coverage just
                 // short of 1 and single white pixels of paper in black areas.)
                 return (1.0, ink);
-            }
-            // A tone as light as the paper or lighter is bare paper: ink in the photo's own
-            // colour would be lighter than the paper (`room` ≤ 0) and cover the cell whole, a
-            // speckle of jittered near-white dots on a white ground.
-            if target >= paper {
-                return (0.0, ink);
             }
             let room = paper - lightness(ink);
             let cover = if room > 1e-3 {
