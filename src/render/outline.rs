@@ -5,7 +5,9 @@
 //! averaged over a Gaussian of σ_m following the tangent field, so lines run long and coherent
 //! where the photo's edges do, and noise that follows no edge fades. The tangent field is the
 //! photo's own structure tensor (the one its metric came from, paper section 3): its minor
-//! eigenvector runs along edges.
+//! eigenvector runs along edges. Drawn in the photo's own colour ([`OutlineInk::Pixel`]), the
+//! lines are found on the light side of edges as well, by the same walk on the response above
+//! what a flat area gives: a thin light line is drawn back like a dark one.
 //!
 //! Everything runs on the structure tensor's grid, the analysis resolution (diagonal at most
 //! 1536 px), so lines keep their width relative to the picture at any photo size; the line
@@ -50,7 +52,8 @@ const SHARPNESS: f32 = 30.0;
 const FLOOR: f32 = 0.006;
 
 /// The line map on `tensor`'s grid: ink in [0, 1] per node, 1 on the dark side of strong
-/// edges, 0 elsewhere.
+/// edges, 0 elsewhere; drawn in the photo's own colour ([`OutlineInk::Pixel`]), on the light
+/// side of strong edges too.
 #[must_use]
 pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlineParams) -> Vec<f32> {
     let (cols, rows) = (tensor.cols(), tensor.rows());
@@ -61,7 +64,7 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
     let across = dog_kernel(sigma_c);
     let reach = (across.len() / 2) as f32;
     // Step 1: the difference of Gaussians across the edge.
-    let dog = per_node(cols, rows, |c, r| {
+    let mut dog = per_node(cols, rows, |c, r| {
         let (x, y) = (c as f32, r as f32);
         let [nx, ny] = normals[r * cols + c];
         let tap = |i: usize| {
@@ -81,6 +84,17 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
             weighted_taps(&across, tap, |x, y| bilinear(&light, cols, rows, x, y))
         }
     });
+    // In the photo's own colour, the light side too: a thin light line (a whisker, a wire
+    // against a dark wall, a highlight on hair) that the broad strokes paint over comes back.
+    // Its response is the difference of Gaussians above what a flat area of that lightness
+    // gives, `(1 − ρ)·L`, negated so that the same walk and threshold find it; each node keeps
+    // the stronger of its two sides (along an edge the side does not change, so one walk over
+    // both is the two walks' stronger, at the cost of one).
+    if params.ink == OutlineInk::Pixel {
+        for (d, &l) in dog.iter_mut().zip(&light) {
+            *d = d.min((1.0 - RHO) * l - *d);
+        }
+    }
     // Step 2: averaged along the flow, both ways from every node.
     along_flow(&dog, &normals, cols, rows, sigma_c, true)
 }
