@@ -63,11 +63,10 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let border = super::colour::linear_of(params.border_colour);
     let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
-    let leading = leading_widths(scene, width);
-    let colours = lit_through_leading(scene, &leading, border);
+    let (leading, colours) = glass(scene, params, width);
     // The cell's colour with its relief at `p`, from the site's `δ²` there.
     let inside = |p: DVec2, delta_squared: f64, o: &Owner| {
-        let mut c = params.jittered(colours[o.site as usize], o.site);
+        let mut c = colours[o.site as usize];
         if let Some(tilts) = &tilts {
             let site = o.site as usize;
             let d = p - scene.cells.positions()[site];
@@ -95,6 +94,22 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
         },
         inside,
     )
+}
+
+/// Per cell, the width of its leading in output pixels for borders `width` pixels wide
+/// ([`leading_widths`]) and its glass: the photo's colour lifted for that leading
+/// ([`lit_through_leading`]) and jittered ([`MosaicParams::jittered`]). The raster and the SVG
+/// both paint these.
+#[must_use]
+pub fn glass(scene: &Scene, params: &MosaicParams, width: f32) -> (Vec<f32>, Vec<Linear>) {
+    let leading = leading_widths(scene, width);
+    let lead = super::colour::linear_of(params.border_colour);
+    let colours = lit_through_leading(scene, &leading, lead)
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| params.jittered(c, i as u32))
+        .collect();
+    (leading, colours)
 }
 
 /// Per cell, the width of the leading round it in output pixels: `width` for cells at least
@@ -137,7 +152,7 @@ pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
 /// `4√3/(2π)` of the ellipse's (Ramanujan's). The lifted `c'` solves
 /// `E(c') − (P/A)·I(c') = E(c)` per channel, by three fixed-point steps from `c`.
 #[must_use]
-pub fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Linear> {
+fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Linear> {
     use crate::field::structure::{linear_to_srgb, srgb_to_linear};
     use rayon::prelude::*;
     let ppu = scene.pixels_per_unit;

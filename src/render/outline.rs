@@ -88,8 +88,9 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
     // against a dark wall, a highlight on hair) that the broad strokes paint over comes back.
     // Its response is the difference of Gaussians above what a flat area of that lightness
     // gives, `(1 − ρ)·L`, negated so that the same walk and threshold find it; each node keeps
-    // the stronger of its two sides (along an edge the side does not change, so one walk over
-    // both is the two walks' stronger, at the cost of one).
+    // the stronger of its two sides before the walk (along an edge the side does not change,
+    // so this is about the stronger of two walks, at the cost of one: measured on strokes,
+    // tone.py's means came out a little higher than with two walks).
     if params.ink == OutlineInk::Pixel {
         for (d, &l) in dog.iter_mut().zip(&light) {
             *d = d.min((1.0 - RHO) * l - *d);

@@ -63,15 +63,7 @@ pub(super) fn svg_of_laid(
     );
     match look {
         Look::Mosaic(p) => {
-            let widths = super::mosaic::leading_widths(scene, scene.border_px(p.border_width));
-            let lit = super::mosaic::lit_through_leading(
-                scene,
-                &widths,
-                super::colour::linear_of(p.border_colour),
-            );
-            let colours: Vec<Linear> = (0..lit.len())
-                .map(|i| p.jittered(lit[i], i as u32))
-                .collect();
+            let (widths, colours) = super::mosaic::glass(scene, p, scene.border_px(p.border_width));
             let border =
                 (p.border_width > 0.0).then_some((p.border_colour, Leading::PerCell(&widths)));
             cells(&mut out, scene, &colours, border);
