@@ -40,6 +40,8 @@ pub(super) fn dot_coverage_at(
     // or column is skipped whole.
     let (f0, k) = (q - cell, reach / s);
     let (k_squared, per_px) = (k * k, 1.0 / px);
+    let core = r - 0.5 * px;
+    let core_squared = if core > 0.0 { core * core } else { -1.0 };
     // (Half-open ranges: an inclusive range's iterator costs a test per step here.)
     let span = |f: f64| (if 0.2 + f < k { -1 } else { 0 })..(if 1.2 - f < k { 2 } else { 1 });
     for dy in span(f0.y) {
@@ -50,7 +52,16 @@ pub(super) fn dot_coverage_at(
                 continue;
             }
             let centre = dot_centre(site, c) * s;
-            let cover = ((r - (local - centre).length()) * per_px + 0.5).clamp(0.0, 1.0) as f32;
+            // Outside the dot's anti-aliased rim, or inside its solid core, the square of the
+            // distance decides without a square root (most points of a stippled cell).
+            let d2 = (local - centre).length_squared();
+            let cover = if d2 >= reach * reach {
+                0.0
+            } else if d2 <= core_squared {
+                1.0
+            } else {
+                ((r - d2.sqrt()) * per_px + 0.5).clamp(0.0, 1.0) as f32
+            };
             if cover > best {
                 best = cover;
                 best_centre = centre;

@@ -268,8 +268,9 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         .map(|f| smoothstep(params.fade_anisotropy, f.anisotropy))
         .collect();
     let periods: Vec<f64> = frames.iter().map(|f| spacing(f.b, params, px)).collect();
-    // Bare paper, as `mix_encoded` gives it (whatever the ink) for no coverage.
-    let bare = mix_encoded(paper, paper, 0.0);
+    // The paper encoded once, and bare paper as `mix_encoded` gives it for no coverage.
+    let paper_encoded = encoded(paper);
+    let bare = mix_encoded(paper_encoded, paper, 0.0);
     let colour = |p: DVec2, o: &Owner| {
         let site = o.site;
         let f = frames[site as usize];
@@ -326,7 +327,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             if cover == 0.0 {
                 bare
             } else {
-                mix_encoded(paper, ink(), cover)
+                mix_encoded(paper_encoded, ink(), cover)
             }
         };
         if border_width > 0.0 {
@@ -342,17 +343,22 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     scene.shade_settled(border_width, colour, |p, _, o| colour(p, o))
 }
 
-/// `a + (b − a)·t` in the sRGB encoding: ink covering a share `t` of a pixel reads as that
-/// share of the way from paper to ink in lightness, as ink on paper averages at a distance and
-/// as SVG viewers blend (in linear light every partly inked pixel of a fine hatch comes out
-/// far lighter than its share of ink, and dark tones never get dark).
-fn mix_encoded(a: Linear, b: Linear, t: f32) -> Linear {
-    let enc = |v: f32| f32::from(super::colour::to_srgb(v));
+/// `a + (b − a)·t` in the sRGB encoding, `a` given [`encoded`]: ink covering a share `t` of a
+/// pixel reads as that share of the way from paper to ink in lightness, as ink on paper
+/// averages at a distance and as SVG viewers blend (in linear light every partly inked pixel of
+/// a fine hatch comes out far lighter than its share of ink, and dark tones never get dark).
+fn mix_encoded(a: [f32; 3], b: Linear, t: f32) -> Linear {
+    let b = encoded(b);
     std::array::from_fn(|k| {
-        let e = enc(a[k]) + (enc(b[k]) - enc(a[k])) * t;
+        let e = a[k] + (b[k] - a[k]) * t;
         // Round half up of a value in [0, 255] (no libm call; the same as `round` there).
         super::colour::to_linear((e.clamp(0.0, 255.0) + 0.5) as u8)
     })
+}
+
+/// A linear colour's sRGB codes, as `f32`.
+fn encoded(c: Linear) -> [f32; 3] {
+    c.map(|v| f32::from(super::colour::to_srgb(v)))
 }
 
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
