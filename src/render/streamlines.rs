@@ -73,8 +73,14 @@ const COARSE_WEIGHT: f32 = 2.0;
 /// there and the line stops.
 const MAX_TURN_COS: f64 = 0.766;
 /// The gaps to the neighbouring lines are looked for up to this share of `d_sep` away; no line
-/// there counts as a gap of `d_sep` (a border, a break).
-const GAP_REACH: f64 = 1.5;
+/// there counts as a gap of `d_sep` (a border, a break). A gap narrower than twice a seed's
+/// clearance can take no new line, so it is the paper of the two lines beside it, however
+/// wide: where lines part (round a form, or fanning out), their shares, and so their widths,
+/// grow with it until a new line fits. At 1.5 spacings, gaps of 1.5 to 1.8 counted as one
+/// spacing, and dark areas where lines part kept hairlines of paper (a dark coat, a night sky;
+/// `tone.py`, seed 7, mean of 20 pictures: blurred SSIM 0.819 → 0.846, PSNR 26.5 → 28.9 dB,
+/// edge recall 0.827 → 0.828).
+const GAP_REACH: f64 = 2.0 * SEED_RATIO;
 
 /// A smooth line field: at every point the direction the lines run in.
 pub struct Directions {
