@@ -229,12 +229,8 @@ pub mod salt {
     pub const LIC_NOISE: u64 = 11;
     /// Brightness of a fabric thread dot; the axis (0 or 1) is added.
     pub const FABRIC_THREAD: u64 = 12;
-    /// Red of a pointillist dot.
-    pub const DOT_RED: u64 = 16;
-    /// Green of a pointillist dot.
-    pub const DOT_GREEN: u64 = 17;
-    /// Blue of a pointillist dot.
-    pub const DOT_BLUE: u64 = 18;
+    /// Lightness, red, green and blue of a pointillist dot (16 bits each of one word).
+    pub const DOT_COLOUR: u64 = 16;
 }
 
 /// Knuth's multiplicative hash constant (2³² / φ): spreads consecutive integers over `u32`
@@ -245,16 +241,23 @@ pub const GOLDEN_U32: u32 = 2_654_435_761;
 #[inline]
 #[must_use]
 pub fn site_hash(site: u32, salt: u64) -> f32 {
+    // The top 24 bits, exact in an f32. Through `u32`: on x86-64 a `u64` becomes a float in a
+    // branchy sequence, a `u32` in one instruction (dot centres hash twice per lattice cell
+    // at every stippled pixel).
+    (site_bits(site, salt) >> 40) as u32 as f32 / (1u32 << 24) as f32
+}
+
+/// The 64 bits [`site_hash`] takes its top 24 from: per-pixel code that needs several
+/// independent values (a pointillist dab's four) cuts them from one word.
+#[inline]
+#[must_use]
+pub fn site_bits(site: u32, salt: u64) -> u64 {
     let mut z = u64::from(site)
         .wrapping_add(salt.wrapping_mul(0x9E37_79B9_7F4A_7C15))
         .wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    // The top 24 bits, exact in an f32. Through `u32`: on x86-64 a `u64` becomes a float in a
-    // branchy sequence, a `u32` in one instruction (dot centres hash twice per lattice cell
-    // at every stippled pixel).
-    (z >> 40) as u32 as f32 / (1u32 << 24) as f32
+    z ^ (z >> 31)
 }
 
 /// `photo` as 8-bit sRGB: borrowed when it already is, converted once otherwise.

@@ -20,7 +20,7 @@ use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
-use super::stipple::{dot_centre, dot_jitter, stipple_radius};
+use super::stipple::{dab_colour, dot_centre, stipple_radius};
 use super::texture::{
     cell_tones, smoothstep, spacing, texture_frames, Ink, TextureKind, TextureParams,
 };
@@ -295,7 +295,7 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
 /// frame, every dot a circle of the raster's radius for the cell's tone (so the dots ink the
 /// same share of paper), clipped to the traced cell, in the cell's ink; pointillist dots
 /// ([`Ink::Pixel`]) each in the blurred photo's colour at its centre, with the raster's
-/// per-dot jitter ([`dot_jitter`]).
+/// per-dot colour ([`dab_colour`]).
 fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     let traced = Traced::new(scene);
     let r = scene.raster;
@@ -346,10 +346,7 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
                     num((radius * k) as f32)
                 );
                 if let (Ink::Pixel(darken), Some(photo)) = (p.ink, &blurred) {
-                    let (jitter, under) = (dot_jitter(i as u32, c), photo.at(q));
-                    let dab: Linear = std::array::from_fn(|j| {
-                        (under[j] * (1.0 - darken) * jitter[j]).clamp(0.0, 1.0)
-                    });
+                    let dab = dab_colour(i as u32, c, photo.at(q), darken);
                     let _ = write!(dots, r#" fill="{}""#, hex(dab));
                 }
                 dots.push_str("/>");

@@ -22,7 +22,7 @@ use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
 use super::rounding::floor;
 use super::scene::Scene;
-use super::stipple::{dot_coverage_at, dot_jitter, stipple_radius};
+use super::stipple::{dab_colour, dot_coverage_at, stipple_radius};
 use super::stripes::stripe_coverage;
 use super::voronoi::Owner;
 use glam::DVec2;
@@ -295,10 +295,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         // colour, the same over the whole dot.
         let plain_ink = ink;
         let ink = || match (dot, params.ink, &blurred) {
-            (Some((_, centre)), Ink::Pixel(k), Some(b)) => {
-                let (jitter, c) = (dot_jitter(site, centre), b.at(p));
-                std::array::from_fn(|i| (c[i] * (1.0 - k) * jitter[i]).clamp(0.0, 1.0))
-            }
+            (Some((_, centre)), Ink::Pixel(k), Some(b)) => dab_colour(site, centre, b.at(p), k),
             _ => plain_ink(),
         };
         let mut c = if let TextureKind::Stroke = params.kind {
