@@ -177,6 +177,21 @@ fn the_mosaic_keeps_flat_greys_under_its_leading() {
 }
 
 #[test]
+fn glyphs_keep_flat_greys() {
+    // A flat grey in glyphs over their wash reads from afar as the same grey within 1.5 levels
+    // (measured: within 1.1): the glyphs' colours are solved for the share of the picture they
+    // cover. Counted as the sum of their areas (overlaps twice), 35 read 38.9 and 120 read 121.8.
+    for grey in [35u8, 60, 120, 200, 230] {
+        let photo = RgbImage::from_pixel(W, H, image::Rgb([grey; 3]));
+        let mean = flat_grey_read(&painted(&photo, "glyphs", &[], 4));
+        assert!(
+            (mean - f64::from(grey)).abs() <= 1.5,
+            "grey {grey} reads {mean:.1}"
+        );
+    }
+}
+
+#[test]
 fn pointillist_keeps_flat_tones() {
     // Flat greys from dark to light, painted pointillist, read from afar (the mean luma of the
     // band's middle) as the photo's own grey within 3 levels: the dots take the photo's colour,

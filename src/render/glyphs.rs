@@ -378,17 +378,44 @@ pub(super) fn glyph_cover(scene: &Scene, params: &GlyphParams) -> f32 {
     glyph_share(scene, &placed_unordered(scene, params), params)
 }
 
-/// The share of the picture `glyphs` cover (their areas over the domain's), kept within
-/// [0.3, 0.97].
+/// The share of the picture `glyphs` cover, as ellipses of their metrics' axes (the union:
+/// where they overlap, the paper between them shows as much as if they did not), kept within
+/// [0.3, 0.97]. Counted at the points of a grid over the domain of at most
+/// [`SHARE_POINTS`] points. The sum of their areas, which it was, counts overlaps twice: a
+/// packing's glyphs covering 0.86 of a flat grey summed to 0.95, and every tone came out
+/// lighter than the photo's, a dark grey of 35 as 39.
 fn glyph_share(scene: &Scene, glyphs: &[(DVec2, Tensor, Linear)], params: &GlyphParams) -> f32 {
-    let s2 = f64::from(params.scale).powi(2);
-    let area: f64 = glyphs
-        .iter()
-        .map(|(_, m, _)| std::f64::consts::PI * m.det().abs() * s2)
-        .sum();
     let d = scene.field.domain();
-    (area / (d.x * d.y).max(1e-9)).clamp(0.3, 0.97) as f32
+    let step = ((d.x * d.y) / SHARE_POINTS).sqrt().max(1e-9);
+    let (nx, ny) = ((d.x / step).ceil() as usize, (d.y / step).ceil() as usize);
+    let mut covered = vec![false; nx * ny];
+    let scale = f64::from(params.scale);
+    for (p, m, _) in glyphs {
+        let Some(inverse) = m.inverse() else {
+            continue;
+        };
+        // The ellipse's extent along x and y: the square roots of the diagonal of m².
+        let m2 = m.squared();
+        let reach = DVec2::new(m2.xx.sqrt(), m2.yy.sqrt()) * scale;
+        let index = |v: f64, n: usize| (v / step - 0.5).clamp(0.0, n as f64 - 1.0);
+        let (lo, hi) = (*p - reach, *p + reach);
+        let (x0, x1) = (index(lo.x, nx).ceil() as usize, index(hi.x, nx) as usize);
+        let (y0, y1) = (index(lo.y, ny).ceil() as usize, index(hi.y, ny) as usize);
+        for j in y0..=y1 {
+            for i in x0..=x1 {
+                let q = DVec2::new((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
+                if inverse.mul_vec(q - *p).length_squared() <= scale * scale {
+                    covered[j * nx + i] = true;
+                }
+            }
+        }
+    }
+    let share = covered.iter().filter(|&&c| c).count() as f64 / covered.len().max(1) as f64;
+    (share as f32).clamp(0.3, 0.97)
 }
+
+/// Points of the grid [`glyph_share`] counts on: the share to within a few thousandths.
+const SHARE_POINTS: f64 = 1_000_000.0;
 
 /// `a + (b − a)·t` in the sRGB encoding (how paint and paper average seen from afar).
 fn encoded_mix(a: f32, b: f32, t: f32) -> f32 {
