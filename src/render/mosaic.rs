@@ -141,7 +141,7 @@ pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
 }
 
 /// Per cell, its photo colour lifted so that the cell with its leading reads, from afar, as
-/// the photo's colour, clamped to white. Unlifted, the leading darkened every tone by its
+/// the photo's colour, as far as white allows. Unlifted, the leading darkened every tone by its
 /// share of the cell: a flat grey of 200 read 182, 120 read 110.
 ///
 /// What a look from afar averages is the sRGB encoding `E`. Along a border of width `w` the
@@ -150,7 +150,8 @@ pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
 /// (8 midpoints). The cell's area `A` and perimeter `P` are estimated from its ellipse: in a
 /// packing each sample's cell is about the hexagon round it, of area `2√3·a·b` and perimeter
 /// `4√3/(2π)` of the ellipse's (Ramanujan's). The lifted `c'` solves
-/// `E(c') − (P/A)·I(c') = E(c)` per channel, by three fixed-point steps from `c`.
+/// `E(c') − (P/A)·I(c') = E(c)` per channel, by three fixed-point steps from `c`; where that
+/// would take a channel past white, every channel gets the same share of its lift.
 #[must_use]
 fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Linear> {
     use crate::field::structure::{linear_to_srgb, srgb_to_linear};
@@ -187,15 +188,20 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Line
                     .sum();
                 (steps as f32 * linear_to_srgb(v) - inked) * dx
             };
-            std::array::from_fn(|k| {
-                let target = linear_to_srgb(c[k]);
-                let mut v = c[k];
-                for _ in 0..3 {
-                    let lifted = (target + per_area * darkening(v, lead[k])).min(1.0);
-                    v = srgb_to_linear(lifted);
-                }
-                v
-            })
+            // Every channel is lifted by the same share of the lift it needs, the largest
+            // that keeps them all under white: a channel clamped alone turned light skin white
+            // (240, 210, 190 → 255, 255, 240), where this keeps its hue (255, 225, 207).
+            let target = c.map(linear_to_srgb);
+            let mut v = c;
+            for _ in 0..3 {
+                let lift: [f32; 3] = std::array::from_fn(|k| per_area * darkening(v[k], lead[k]));
+                let share = (0..3)
+                    .filter(|&k| lift[k] > 0.0)
+                    .map(|k| ((1.0 - target[k]) / lift[k]).max(0.0))
+                    .fold(1.0f32, f32::min);
+                v = std::array::from_fn(|k| srgb_to_linear(target[k] + share * lift[k]));
+            }
+            v
         })
         .collect()
 }
