@@ -177,6 +177,24 @@ fn the_mosaic_keeps_flat_greys_under_its_leading() {
 }
 
 #[test]
+fn the_mosaic_lifts_light_glass_without_whitening_it() {
+    // Light skin in stained glass: the glass is lifted for its leading, every channel by the
+    // same share of its lift, so the lightest glass keeps the skin's hue. Each channel lifted
+    // alone until it clamped gave 255, 255, 240 (its red less its blue 15, the photo's 50).
+    let photo = RgbImage::from_pixel(W, H, image::Rgb([240, 210, 190]));
+    let img = painted(&photo, "mosaic", &["look.relief=0".into()], 4);
+    let lightest =
+        img.pixels()
+            .map(|p| p.0)
+            .fold([0u8; 3], |a, p| if luma(p) > luma(a) { p } else { a });
+    let chroma = i32::from(lightest[0]) - i32::from(lightest[2]);
+    assert!(
+        luma(lightest) > luma([240, 210, 190]) + 3.0 && chroma >= 40,
+        "lightest glass {lightest:?}"
+    );
+}
+
+#[test]
 fn glyphs_keep_flat_greys() {
     // A flat grey in glyphs over their wash reads from afar as the same grey within 1.5 levels
     // (measured: within 1.1): the glyphs' colours are solved for the share of the picture they
