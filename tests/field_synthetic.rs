@@ -142,15 +142,10 @@ fn same_look_at_two_resolutions() {
 }
 
 /// `f` plus white Gaussian grain of deviation `sigma` (0–1 units) per pixel, the same in the
-/// three channels (Box–Muller on a seeded linear congruential generator).
+/// three channels (Box–Muller on the sampler's seeded generator).
 fn grainy_image(w: u32, h: u32, sigma: f64, f: impl Fn(f64, f64) -> f64) -> DynamicImage {
-    let mut state = 7u64;
-    let mut uniform = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = anisopaint::sampling::rng::Rng::new(7, 0);
+    let mut uniform = move || rng.uniform();
     let img = RgbImage::from_fn(w, h, |x, y| {
         let (u, v) = (uniform().max(1e-12), uniform());
         let grain = (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos();
