@@ -323,6 +323,10 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             }
             if cover == 0.0 {
                 bare
+            } else if cover >= 1.0 {
+                // All ink: `mix_encoded` would give the ink through the 8-bit encoding, which
+                // the shading rounds to the same byte.
+                ink()
             } else {
                 mix_encoded(paper_encoded, ink(), cover)
             }
