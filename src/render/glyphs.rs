@@ -142,7 +142,22 @@ pub(super) fn painted(
     let mut underpainting = None;
     let washed = !params.underpaint && params.ground > 0.0 && tone_kept(scene, params);
     if params.underpaint {
-        let cells = scene.shade(0.0, |_, o| scene.colours[o.site as usize]);
+        // One owning site per pixel, not supersampled, as the wash below: the underpainting
+        // shows only between the strokes.
+        let flat: Vec<[u8; 3]> = scene.colours.iter().map(|c| c.map(to_srgb)).collect();
+        let bg = params.background;
+        let centres = Raster {
+            supersample: 1,
+            ..r
+        };
+        let mut cells = RgbImage::new(w, h);
+        scene
+            .cells
+            .site_rows(&centres, cells.as_mut(), 3 * w as usize, |_, sites, row| {
+                for (px, &site) in row.chunks_exact_mut(3).zip(sites) {
+                    px.copy_from_slice(&flat.get(site as usize).copied().unwrap_or(bg));
+                }
+            });
         for (px, rgb) in pixmap.pixels_mut().iter_mut().zip(cells.pixels()) {
             let [cr, cg, cb] = rgb.0;
             *px = tiny_skia::ColorU8::from_rgba(cr, cg, cb, 255).premultiply();

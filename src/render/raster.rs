@@ -103,17 +103,22 @@ impl VoronoiCells<'_> {
         P: Send,
         F: Fn(usize, &[Owner], &[u32], &mut [P]) + Sync,
     {
+        let map = self.aligned_map(raster);
+        self.owner_rows(raster, out, row_len, map, shade);
+    }
+
+    /// The colour term's cell map when its pixels are the raster's points (a picture at the
+    /// photo's own size).
+    fn aligned_map(&self, raster: &Raster) -> Option<&CellMap> {
         let centres = Raster {
             supersample: 1,
             ..*raster
         };
-        let map = self
-            .colour()
+        self.colour()
             .and_then(|term| term.map.as_ref())
             .filter(|map| {
                 map.size() == (centres.width, centres.height) && centres.step() == DVec2::ONE
-            });
-        self.owner_rows(raster, out, row_len, map, shade);
+            })
     }
 
     /// The owner search of [`Self::shade_rows`] and [`Self::shade_rows_settled`] through
@@ -150,6 +155,24 @@ impl VoronoiCells<'_> {
         P: Send,
         F: Fn(usize, &[u32], &mut [P]) + Sync,
     {
+        // The cell map holds every pixel's owner (what the search below finds, absorbed pixels
+        // given to their new cells): at its own size the rows are read off it.
+        if let Some(map) = self.aligned_map(raster) {
+            let width = map.size().0;
+            out.par_chunks_mut(row_len * BAND_ROWS)
+                .enumerate()
+                .for_each(|(band, chunk)| {
+                    let mut sites = vec![NONE; width];
+                    for (k, row) in chunk.chunks_mut(row_len).enumerate() {
+                        let y = band * BAND_ROWS + k;
+                        for (x, site) in sites.iter_mut().enumerate() {
+                            *site = map.cell(y * width + x);
+                        }
+                        shade(y, &sites, row);
+                    }
+                });
+            return;
+        }
         self.rows_of(
             raster,
             out,
@@ -370,6 +393,60 @@ pub(crate) mod tests {
             .field(w, h);
         let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
         (field, s)
+    }
+
+    #[test]
+    fn site_rows_at_the_photos_size_read_the_cell_map_as_the_search_finds() {
+        // Edge-following cells of a photo (a dark disc and fine stripes: pieces absorbed,
+        // borders carved by colour): at the photo's size the rows come off the cell map, and
+        // they are what the owner search itself finds at every pixel.
+        let (w, h) = (120u32, 90u32);
+        let (field, s) = constant_samples(w as usize, h as usize, 0.05);
+        let photo = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(w, h, |x, y| {
+            let (dx, dy) = (f64::from(x) - 50.0, f64::from(y) - 40.0);
+            let disc = dx.hypot(dy) < 22.0;
+            let stripe = (x / 3 + y / 7) % 2 == 0;
+            let v = if disc {
+                30
+            } else if stripe {
+                200
+            } else {
+                150
+            };
+            image::Rgb([v, v / 2 + 40, 255 - v])
+        }));
+        let sites = super::super::cells::CellSites::new(
+            s.positions.clone(),
+            s.metrics.clone(),
+            s.mesh.clone(),
+            &field,
+            Some(&photo),
+            &super::super::cells::CellParams::default(),
+        );
+        let cells = sites.cells();
+        let raster = Raster {
+            width: w as usize,
+            height: h as usize,
+            supersample: 1,
+            domain: field.domain(),
+        };
+        assert!(cells.aligned_map(&raster).is_some());
+        let mapped = owner_map(&cells, &raster);
+        let mut searched = vec![NONE; mapped.len()];
+        cells.rows_of(
+            &raster,
+            &mut searched,
+            w as usize,
+            NONE,
+            |t, p| match t {
+                Some(t) => cells.site_in_triangle(t, p),
+                None => cells.owner_brute_force(p).site,
+            },
+            None,
+            |_, sites, _, row| row.copy_from_slice(sites),
+        );
+        let differ = mapped.iter().zip(&searched).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{differ} of {} pixels", mapped.len());
     }
 
     #[test]
