@@ -150,6 +150,35 @@ impl<'a> Scene<'a> {
         let Some(term) = self.cells.colour() else {
             return self.shade(border_px, colour);
         };
+        self.shade_settled_with(border_px, &colour, |p, site| {
+            let (delta_squared, o) = self.cells.settled_owner(term, site, p, NONE);
+            inside(p, delta_squared, &o)
+        })
+    }
+
+    /// [`Self::shade_settled`] for a look whose colour inside a cell needs only the point and
+    /// the cell (`inside(p, site)`, what `colour` gives there for an owner without a border
+    /// near): the owner's distances are not measured at the settled pixels.
+    #[must_use]
+    pub fn shade_settled_by_site<F, I>(&self, border_px: f32, colour: F, inside: I) -> RgbImage
+    where
+        F: Fn(DVec2, &Owner) -> Linear + Sync,
+        I: Fn(DVec2, u32) -> Linear + Sync,
+    {
+        if self.cells.colour().is_none() {
+            return self.shade(border_px, colour);
+        }
+        self.shade_settled_with(border_px, &colour, inside)
+    }
+
+    /// The shading of [`Self::shade_settled`] and [`Self::shade_settled_by_site`]:
+    /// `inside(p, site)` colours a settled pixel clear of the borders' ink.
+    fn shade_settled_with<F, I>(&self, border_px: f32, colour: &F, inside: I) -> RgbImage
+    where
+        F: Fn(DVec2, &Owner) -> Linear + Sync,
+        I: Fn(DVec2, u32) -> Linear + Sync,
+    {
+        let term = self.cells.colour().expect("a colour term's cell map");
         let r = self.raster;
         let mut out = vec![0u8; 3 * r.width * r.height];
         let centres = Raster {
@@ -177,22 +206,20 @@ impl<'a> Scene<'a> {
                     match settled.get(x) {
                         Some(&site) if site != NONE => {
                             let p = DVec2::new((x as f64 + 0.5) * step.x, py);
-                            let (delta_squared, mut o) =
-                                self.cells.settled_owner(term, site, p, NONE);
-                            let near = distances.as_ref().and_then(|d| d.within(x, y));
-                            let c = match near {
+                            let c = match distances.as_ref().and_then(|d| d.within(x, y)) {
                                 Some(d) => {
+                                    let (_, mut o) = self.cells.settled_owner(term, site, p, NONE);
                                     o.border_px = d + MAP_BORDER_OFFSET_PX;
                                     colour(p, &o)
                                 }
-                                None => inside(p, delta_squared, &o),
+                                None => inside(p, site),
                             };
                             for k in 0..3 {
                                 px[k] = to_srgb(c[k]);
                             }
                         }
                         _ => {
-                            self.shade_pixel((x, y), o, aligned, &colour, steps, px);
+                            self.shade_pixel((x, y), o, aligned, colour, steps, px);
                         }
                     }
                 }

@@ -340,8 +340,17 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         c
     };
     // Settled pixels have no border near (their owner's `border_px` is infinite): the same
-    // colour, without the owner search.
-    scene.shade_settled(border_width, colour, |p, _, o| colour(p, o))
+    // colour, without the owner search, and without measuring the owner's `δ` or `D`, which the
+    // colour does not read (only the site and the border distance).
+    scene.shade_settled_by_site(border_width, colour, |p, site| {
+        colour(
+            p,
+            &Owner {
+                site,
+                ..Owner::NOBODY
+            },
+        )
+    })
 }
 
 /// `a + (b − a)·t` in the sRGB encoding, `a` given [`encoded`]: ink covering a share `t` of a
