@@ -397,16 +397,17 @@ pub(crate) mod tests {
 
     #[test]
     fn site_rows_at_the_photos_size_read_the_cell_map_as_the_search_finds() {
-        // Edge-following cells of a photo (a dark disc and fine stripes: pieces absorbed,
-        // borders carved by colour): at the photo's size the rows come off the cell map, and
-        // they are what the owner search itself finds at every pixel.
-        let (w, h) = (120u32, 90u32);
-        let (field, s) = constant_samples(w as usize, h as usize, 0.05);
-        let photo = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(w, h, |x, y| {
+        // Edge-following cells of a photo (a dark disc and fine stripes: borders carved by
+        // colour, pieces absorbed), made as `cells.rs` makes them (owners searched with the
+        // colour term, then one piece per cell): at the photo's size the rows come off the
+        // cell map, and they are what the owner search itself finds at every pixel.
+        let (w, h) = (120usize, 90usize);
+        let (field, s) = constant_samples(w, h, 0.05);
+        let photo = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
             let (dx, dy) = (f64::from(x) - 50.0, f64::from(y) - 40.0);
             let disc = dx.hypot(dy) < 22.0;
             let stripe = (x / 3 + y / 7) % 2 == 0;
-            let v = if disc {
+            let v: u8 = if disc {
                 30
             } else if stripe {
                 200
@@ -414,29 +415,40 @@ pub(crate) mod tests {
                 150
             };
             image::Rgb([v, v / 2 + 40, 255 - v])
-        }));
-        let sites = super::super::cells::CellSites::new(
-            s.positions.clone(),
-            s.metrics.clone(),
-            s.mesh.clone(),
-            &field,
-            Some(&photo),
-            &super::super::cells::CellParams::default(),
-        );
-        let cells = sites.cells();
+        });
+        let mut term = super::super::colour_term::ColourTerm::new(photo.clone(), 300.0);
+        term.reach = 1.0;
+        term.means = s
+            .positions
+            .iter()
+            .map(|&p| term.colour_only_at(p))
+            .collect();
         let raster = Raster {
-            width: w as usize,
-            height: h as usize,
+            width: w,
+            height: h,
             supersample: 1,
             domain: field.domain(),
         };
+        let searched_once = {
+            let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh).with_colour(&term);
+            owner_map(&cells, &raster)
+        };
+        let unit = |v: u8| f32::from(v) / 255.0;
+        term.map = Some(super::super::pieces::one_piece(
+            searched_once,
+            w,
+            h,
+            &term.means,
+            |x, y| photo.get_pixel(x as u32, y as u32).0.map(unit),
+        ));
+        let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh).with_colour(&term);
         assert!(cells.aligned_map(&raster).is_some());
         let mapped = owner_map(&cells, &raster);
         let mut searched = vec![NONE; mapped.len()];
         cells.rows_of(
             &raster,
             &mut searched,
-            w as usize,
+            w,
             NONE,
             |t, p| match t {
                 Some(t) => cells.site_in_triangle(t, p),
