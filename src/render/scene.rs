@@ -178,7 +178,7 @@ impl<'a> Scene<'a> {
         F: Fn(DVec2, &Owner) -> Linear + Sync,
         I: Fn(DVec2, u32) -> Linear + Sync,
     {
-        let term = self.cells.colour().expect("a colour term's cell map");
+        let term = self.cells.colour().expect("callers check the colour term");
         let r = self.raster;
         let mut out = vec![0u8; 3 * r.width * r.height];
         let centres = Raster {
