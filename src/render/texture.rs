@@ -20,7 +20,7 @@ use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear
 use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
-use super::rounding::floor;
+use super::rounding::{cube_root, floor};
 use super::scene::Scene;
 use super::stipple::{dab_colour, dot_coverage_at, stipple_radius};
 use super::stripes::stripe_coverage;
@@ -371,20 +371,6 @@ fn encoded(c: Linear) -> [f32; 3] {
     c.map(|v| f32::from(super::colour::to_srgb(v)))
 }
 
-/// `∛y` for `y ≥ 0` (within 2·10⁻⁷ of it relatively): an estimate from the float's bits, then
-/// Newton steps, no libm call.
-fn cube_root(y: f32) -> f32 {
-    if y <= 0.0 {
-        return 0.0;
-    }
-    // Dividing the exponent by three (the bits are about 2²³·(log₂ y + 127)).
-    let mut r = f32::from_bits(y.to_bits() / 3 + 709_921_077);
-    for _ in 0..3 {
-        r -= (r - y / (r * r)) / 3.0;
-    }
-    r
-}
-
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
 pub(super) fn smoothstep(edge: f32, x: f32) -> f32 {
     if edge <= 0.0 {
@@ -567,20 +553,6 @@ mod tests {
         for (layer, angle) in LAYERS.iter().zip([0.0, FRAC_PI_2, FRAC_PI_4]) {
             assert_eq!(*layer, angle.sin_cos());
         }
-    }
-
-    #[test]
-    fn cube_root_is_libms_within_its_precision() {
-        for i in 0..=100_000 {
-            let y = i as f32 / 100_000.0;
-            let (got, want) = (cube_root(y), y.cbrt());
-            assert!(
-                (got - want).abs() <= 2e-7 * want.max(1e-3),
-                "{y}: {got} against {want}"
-            );
-        }
-        assert_eq!(cube_root(0.0), 0.0);
-        assert_eq!(cube_root(-1.0), 0.0);
     }
 
     #[test]
