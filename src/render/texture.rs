@@ -22,7 +22,7 @@ use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
 use super::rounding::{cube_root, floor};
 use super::scene::Scene;
-use super::stipple::{dab_colour, dot_coverage_at, stipple_radius};
+use super::stipple::{dab_at, dot_coverage_at, next_render, stipple_radius, Dab};
 use super::stripes::stripe_coverage;
 use super::voronoi::Owner;
 use glam::DVec2;
@@ -271,6 +271,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     // The paper encoded once, and bare paper as `mix_encoded` gives it for no coverage.
     let paper_encoded = encoded(paper);
     let bare = mix_encoded(paper_encoded, paper, 0.0);
+    let render = next_render();
     let colour = |p: DVec2, o: &Owner| {
         let site = o.site;
         let f = frames[site as usize];
@@ -291,11 +292,26 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         // Stipple: the dot covering the point (its coverage and centre), found once.
         let dot = (params.kind == TextureKind::Stipple)
             .then(|| dot_coverage_at(local, site, periods[site as usize], radius, px));
-        // Pointillist dots (stipple in the photo's colours): each dab a little off the photo's
-        // colour, the same over the whole dot.
+        // Pointillist dots (stipple in the photo's colours): each one dab of the photo's colour
+        // at its centre (its frame turned back into the picture's), cut by the photo's edges.
         let plain_ink = ink;
         let ink = || match (dot, params.ink, &blurred) {
-            (Some((_, centre)), Ink::Pixel(k), Some(b)) => dab_colour(site, centre, b.at(p), k),
+            (Some((_, centre)), Ink::Pixel(k), Some(b)) => {
+                let dab = dab_at(render, site, centre, || {
+                    let (sin, cos) = (f.sin, f.cos);
+                    let world = DVec2::new(
+                        cos * centre.x - sin * centre.y,
+                        sin * centre.x + cos * centre.y,
+                    );
+                    Dab::new(
+                        site,
+                        centre,
+                        b.at(scene.cells.positions()[site as usize] + world),
+                        k,
+                    )
+                });
+                dab.colour_over(b.at(p))
+            }
             _ => plain_ink(),
         };
         let mut c = if let TextureKind::Stroke = params.kind {
