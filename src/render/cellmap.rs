@@ -52,6 +52,33 @@ impl CellMap {
         }
     }
 
+    /// The cell of the pixel whose centre is `p` when a pixel beside it (left, right, above or
+    /// below) belongs to another cell: where the shading takes its border from the map's
+    /// crossings ([`VoronoiCells::map_crossings`](super::voronoi::VoronoiCells::map_crossings)).
+    #[must_use]
+    pub fn beside_another(&self, p: DVec2) -> Option<u32> {
+        let (x, y) = self.pixel_xy(p)?;
+        let (w, k) = (self.width, y * self.width + x);
+        let own = self.cell(k);
+        if own == NONE {
+            return None;
+        }
+        let neighbours = [
+            (x > 0).then(|| k - 1),
+            (x + 1 < w).then(|| k + 1),
+            (y > 0).then(|| k - w),
+            (y + 1 < self.height).then(|| k + w),
+        ];
+        neighbours
+            .into_iter()
+            .flatten()
+            .any(|n| {
+                let c = self.cell(n);
+                c != own && c != NONE
+            })
+            .then_some(own)
+    }
+
     /// The pixel holding `p`, if inside.
     #[inline]
     fn pixel(&self, p: DVec2) -> Option<usize> {

@@ -98,13 +98,45 @@ impl VoronoiCells<'_> {
     /// their owners itself ([`VoronoiCells::settled_owner`]). The map is read only when the
     /// raster's points are its pixels' centres (a picture at the photo's own size); otherwise
     /// `settled` is empty and every pixel is searched as by [`Self::shade_rows`].
-    pub fn shade_rows_settled<P, F>(&self, raster: &Raster, out: &mut [P], row_len: usize, shade: F)
-    where
+    ///
+    /// With `crossings` (the shading takes the runner-up beside another cell's pixel from the
+    /// map's crossings, [`VoronoiCells::map_crossings`]), such a pixel's owner is not searched
+    /// either ([`Self::owner_beside`]).
+    pub fn shade_rows_settled<P, F>(
+        &self,
+        raster: &Raster,
+        out: &mut [P],
+        row_len: usize,
+        crossings: bool,
+        shade: F,
+    ) where
         P: Send,
         F: Fn(usize, &[Owner], &[u32], &mut [P]) + Sync,
     {
         let map = self.aligned_map(raster);
-        self.owner_rows(raster, out, row_len, map, shade);
+        let Some(beside) = map.filter(|_| crossings) else {
+            self.owner_rows(raster, out, row_len, map, shade);
+            return;
+        };
+        let at = |t: Option<usize>, p| match t {
+            Some(t) => self
+                .owner_beside(beside, t, p)
+                .unwrap_or_else(|| self.owner_in_triangle(t, p)),
+            None => self.owner_brute_force(p),
+        };
+        self.rows_of(raster, out, row_len, Owner::NOBODY, at, map, shade);
+    }
+
+    /// The owner of pixel centre `p` in triangle `t` beside a pixel of another cell of the
+    /// colour term's cell `map` ([`CellMap::beside_another`]), but for its runner-up: the map's
+    /// cell (which the owner search found there, or absorbed the pixel into) with its `D`,
+    /// the same expression the search evaluates. The shading replaces the runner-up with the
+    /// crossings' ([`VoronoiCells::map_crossings`]), so it needs no search. `None` elsewhere.
+    fn owner_beside(&self, map: &CellMap, t: usize, p: DVec2) -> Option<Owner> {
+        let term = self.colour()?;
+        let site = map.beside_another(p)?;
+        let (_, owner) = self.settled_owner(term, site, p, t as u32);
+        Some(owner)
     }
 
     /// The colour term's cell map when its pixels are the raster's points (a picture at the
@@ -395,12 +427,15 @@ pub(crate) mod tests {
         (field, s)
     }
 
-    #[test]
-    fn site_rows_at_the_photos_size_read_the_cell_map_as_the_search_finds() {
-        // Edge-following cells of a photo (a dark disc and fine stripes: borders carved by
-        // colour, pieces absorbed), made as `cells.rs` makes them (owners searched with the
-        // colour term, then one piece per cell): at the photo's size the rows come off the
-        // cell map, and they are what the owner search itself finds at every pixel.
+    /// Edge-following cells of a photo (a dark disc and fine stripes: borders carved by
+    /// colour, pieces absorbed), made as `cells.rs` makes them (owners searched with the colour
+    /// term, then one piece per cell), with the photo's raster: the samples, the colour term
+    /// with its cell map, and the raster.
+    fn edge_cells_at_photo_size() -> (
+        sampling::Sampling,
+        super::super::colour_term::ColourTerm,
+        Raster,
+    ) {
         let (w, h) = (120usize, 90usize);
         let (field, s) = constant_samples(w, h, 0.05);
         let photo = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
@@ -441,6 +476,15 @@ pub(crate) mod tests {
             &term.means,
             |x, y| photo.get_pixel(x as u32, y as u32).0.map(unit),
         ));
+        (s, term, raster)
+    }
+
+    #[test]
+    fn site_rows_at_the_photos_size_read_the_cell_map_as_the_search_finds() {
+        // At the photo's size the rows come off the cell map, and they are what the owner
+        // search itself finds at every pixel.
+        let (s, term, raster) = edge_cells_at_photo_size();
+        let w = raster.width;
         let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh).with_colour(&term);
         assert!(cells.aligned_map(&raster).is_some());
         let mapped = owner_map(&cells, &raster);
@@ -459,6 +503,46 @@ pub(crate) mod tests {
         );
         let differ = mapped.iter().zip(&searched).filter(|(a, b)| a != b).count();
         assert_eq!(differ, 0, "{differ} of {} pixels", mapped.len());
+    }
+
+    #[test]
+    fn owners_beside_another_cell_are_the_searched_ones_but_for_the_runner_up() {
+        // Where the shading takes the runner-up from the map's crossings, the owners come off
+        // the map: the same site and `D`, bit for bit, as the search at every pixel, the
+        // runner-up left to the crossings, which every such pixel has.
+        let (s, term, raster) = edge_cells_at_photo_size();
+        let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh).with_colour(&term);
+        let map = cells.aligned_map(&raster).expect("the photo's size");
+        let owners = |crossings: bool| {
+            let mut out = vec![Owner::NOBODY; raster.width * raster.height];
+            cells.shade_rows_settled(
+                &raster,
+                &mut out,
+                raster.width,
+                crossings,
+                |_, o, _, row| {
+                    row.copy_from_slice(o);
+                },
+            );
+            out
+        };
+        let (taken, searched) = (owners(true), owners(false));
+        let mut beside = 0;
+        for (k, (a, b)) in taken.iter().zip(&searched).enumerate() {
+            assert_eq!(
+                (a.site, a.delta.to_bits()),
+                (b.site, b.delta.to_bits()),
+                "pixel {k}"
+            );
+            let (x, y) = (k % raster.width, k / raster.width);
+            if map.beside_another(raster.point(x, y)).is_some() {
+                beside += 1;
+                assert!(cells.map_crossings(map, (x, y), a).is_some(), "pixel {k}");
+            } else {
+                assert_eq!(a, b, "pixel {k}");
+            }
+        }
+        assert!(beside > 1000, "{beside} pixels beside another cell");
     }
 
     #[test]

@@ -200,6 +200,7 @@ impl<'a> Scene<'a> {
             &centres,
             &mut out,
             3 * r.width,
+            aligned.is_some(),
             |y, owners, settled, row| {
                 let py = (y as f64 + 0.5) * step.y;
                 for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
