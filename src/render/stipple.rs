@@ -251,7 +251,7 @@ pub(super) fn dab_colour(site: u32, centre: DVec2, under: Linear, darken: f32) -
 /// The differences (square roots of linear channels) between the photo at a point and at its
 /// dab's centre over which the dab gives way to the photo ([`Dab::colour_over`]). On 20
 /// pictures (`tone.py`, seed 7), against the photo read at every point (dots that vanished
-/// into it): edge recall 0.926 → 0.904, blurred SSIM 0.988 → 0.982; flat dabs with no edges:
+/// into it): edge recall 0.926 → 0.908, blurred SSIM 0.988 → 0.983; flat dabs with no edges:
 /// 0.831 and 0.962 (text and fur smeared); in linear light from 0.08 to 0.2: 0.883 and 0.976.
 const DAB_EDGE: (f32, f32) = (0.06, 0.15);
 
