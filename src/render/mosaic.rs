@@ -7,7 +7,7 @@
 //! even width in pixels whatever the cell's stretch; cells smaller than those that cover most
 //! of the picture take leading narrowed in proportion ([`leading_widths`], shared with the
 //! SVG), so small type and fine detail stay readable. The glass is lifted by the share of the
-//! cell its leading covers ([`lit_through_leading`]), so the picture seen from afar keeps the
+//! cell its leading covers (`lit_through_leading`), so the picture seen from afar keeps the
 //! photo's tones. Relief lights each cell as a dome `1 − δ_i²` from the upper left (GEGL's
 //! mosaic has a bevel of the same kind), its slope from one vector per cell (`dome_tilts`).
 //! Shading is `f32` in linear light.
@@ -98,7 +98,7 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
 
 /// Per cell, the width of its leading in output pixels for borders `width` pixels wide
 /// ([`leading_widths`]) and its glass: the photo's colour lifted for that leading
-/// ([`lit_through_leading`]) and jittered ([`MosaicParams::jittered`]). The raster and the SVG
+/// (`lit_through_leading`) and jittered ([`MosaicParams::jittered`]). The raster and the SVG
 /// both paint these.
 #[must_use]
 pub fn glass(scene: &Scene, params: &MosaicParams, width: f32) -> (Vec<f32>, Vec<Linear>) {

@@ -101,7 +101,7 @@ impl VoronoiCells<'_> {
     ///
     /// With `crossings` (the shading takes the runner-up beside another cell's pixel from the
     /// map's crossings, [`VoronoiCells::map_crossings`]), such a pixel's owner is not searched
-    /// either ([`Self::owner_beside`]).
+    /// either (`owner_beside`).
     pub fn shade_rows_settled<P, F>(
         &self,
         raster: &Raster,

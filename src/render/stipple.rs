@@ -3,7 +3,7 @@
 //! ±0.3 periods (`dot_centre`), all of one radius for the cell's tone (`stipple_radius`,
 //! measured on the lattice itself so the dots ink the share of paper the tone asks for). The
 //! raster ([`super::texture`]) and the SVG ([`super::svg`]) place the same dots, and give the
-//! pointillist's each its own colour ([`Dab`]). `f64` in domain units; coverage and
+//! pointillist's each its own colour (`Dab`). `f64` in domain units; coverage and
 //! colour factors `f32`.
 
 use super::colour::{salt, site_bits, site_hash, Linear};
