@@ -481,8 +481,10 @@ pub(crate) mod tests {
 
     #[test]
     fn site_rows_at_the_photos_size_read_the_cell_map_as_the_search_finds() {
-        // At the photo's size the rows come off the cell map, and they are what the owner
-        // search itself finds at every pixel.
+        // At the photo's size the rows come off the cell map, and they are what the full
+        // owner search (`D²` of every candidate, then the nearest two) finds at every pixel:
+        // the map's own search (`site_in_triangle`, its colour term measured only where `δ²`
+        // can still win) found the same owners.
         let (s, term, raster) = edge_cells_at_photo_size();
         let w = raster.width;
         let cells = VoronoiCells::new(&s.positions, &s.metrics, &s.mesh).with_colour(&term);
@@ -495,7 +497,7 @@ pub(crate) mod tests {
             w,
             NONE,
             |t, p| match t {
-                Some(t) => cells.site_in_triangle(t, p),
+                Some(t) => cells.owner_in_triangle(t, p).site,
                 None => cells.owner_brute_force(p).site,
             },
             None,

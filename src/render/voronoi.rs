@@ -314,10 +314,40 @@ impl<'a> VoronoiCells<'a> {
             return site;
         }
         let colour = term.colour_only_at(p);
-        let costs = self.colour_distances(term, candidates, p, colour);
-        let site = nearest(candidates.iter().copied().zip(costs));
+        let site = self.nearest_by_colour(term, candidates, p, colour);
         // As `as_mapped`: an absorbed pixel belongs to its new cell.
         map.and_then(|map| map.absorbed_into(p)).unwrap_or(site)
+    }
+
+    /// The nearest of `candidates` at `p` by `D²` ([`Self::colour_distances`]'s, the first of
+    /// equals), the colour term measured only for a candidate whose `δ²` alone is under the
+    /// nearest `D²` so far: `D² ≥ δ²`, so the others cannot be nearer, nor first of equals.
+    #[inline]
+    fn nearest_by_colour(
+        &self,
+        term: &ColourTerm,
+        candidates: &[u32; 6],
+        p: DVec2,
+        colour: [f32; 3],
+    ) -> u32 {
+        let mut squared = [0.0f64; 6];
+        let mut nearest = f64::INFINITY;
+        for (d2, &c) in squared.iter_mut().zip(candidates) {
+            *d2 = self.quads[c as usize].delta_squared(p);
+            nearest = nearest.min(*d2);
+        }
+        let limit = nearest.sqrt() + term.reach;
+        let limit = (limit * limit).max(nearest);
+        let mut best = (NONE, f64::INFINITY);
+        for (&d2, &c) in squared.iter().zip(candidates) {
+            if d2 <= limit && d2 < best.1 {
+                let d = d2 + term.cost(colour, c);
+                if d < best.1 {
+                    best = (c, d);
+                }
+            }
+        }
+        best.0
     }
 
     /// `D² = δ² + w·|c − c_i|²` of each of `candidates` at `p` (`colour` the photo's there),
