@@ -87,7 +87,7 @@ impl VoronoiCells<'_> {
         P: Send,
         F: Fn(usize, &[Owner], &mut [P]) + Sync,
     {
-        self.owner_rows(raster, out, row_len, None, |y, owners, _, row| {
+        self.owner_rows(raster, out, row_len, None, None, |y, owners, _, row| {
             shade(y, owners, row);
         });
     }
@@ -114,17 +114,8 @@ impl VoronoiCells<'_> {
         F: Fn(usize, &[Owner], &[u32], &mut [P]) + Sync,
     {
         let map = self.aligned_map(raster);
-        let Some(beside) = map.filter(|_| crossings) else {
-            self.owner_rows(raster, out, row_len, map, shade);
-            return;
-        };
-        let at = |t: Option<usize>, p| match t {
-            Some(t) => self
-                .owner_beside(beside, t, p)
-                .unwrap_or_else(|| self.owner_in_triangle(t, p)),
-            None => self.owner_brute_force(p),
-        };
-        self.rows_of(raster, out, row_len, Owner::NOBODY, at, map, shade);
+        let beside = map.filter(|_| crossings);
+        self.owner_rows(raster, out, row_len, map, beside, shade);
     }
 
     /// The owner of pixel centre `p` in triangle `t` beside a pixel of another cell of the
@@ -154,13 +145,15 @@ impl VoronoiCells<'_> {
     }
 
     /// The owner search of [`Self::shade_rows`] and [`Self::shade_rows_settled`] through
-    /// [`Self::rows_of`], leaving out the pixels `settle` settles.
+    /// [`Self::rows_of`], leaving out the pixels `settle` settles, and taking the owners of
+    /// the pixels beside another cell's off `beside` (`owner_beside`).
     fn owner_rows<P, F>(
         &self,
         raster: &Raster,
         out: &mut [P],
         row_len: usize,
         settle: Option<&CellMap>,
+        beside: Option<&CellMap>,
         shade: F,
     ) where
         P: Send,
@@ -172,7 +165,9 @@ impl VoronoiCells<'_> {
             row_len,
             Owner::NOBODY,
             |t, p| match t {
-                Some(t) => self.owner_in_triangle(t, p),
+                Some(t) => beside
+                    .and_then(|map| self.owner_beside(map, t, p))
+                    .unwrap_or_else(|| self.owner_in_triangle(t, p)),
                 None => self.owner_brute_force(p),
             },
             settle,

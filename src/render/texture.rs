@@ -298,10 +298,9 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         let ink = || match (dot, params.ink, &blurred) {
             (Some((_, centre)), Ink::Pixel(k), Some(b)) => {
                 let dab = dab_at(render, site, centre, || {
-                    let (sin, cos) = (f.sin, f.cos);
                     let world = DVec2::new(
-                        cos * centre.x - sin * centre.y,
-                        sin * centre.x + cos * centre.y,
+                        f.cos * centre.x - f.sin * centre.y,
+                        f.sin * centre.x + f.cos * centre.y,
                     );
                     Dab::new(
                         site,

@@ -330,14 +330,7 @@ impl<'a> VoronoiCells<'a> {
         p: DVec2,
         colour: [f32; 3],
     ) -> u32 {
-        let mut squared = [0.0f64; 6];
-        let mut nearest = f64::INFINITY;
-        for (d2, &c) in squared.iter_mut().zip(candidates) {
-            *d2 = self.quads[c as usize].delta_squared(p);
-            nearest = nearest.min(*d2);
-        }
-        let limit = nearest.sqrt() + term.reach;
-        let limit = (limit * limit).max(nearest);
+        let (squared, limit) = self.within_reach(term, candidates, p);
         let mut best = (NONE, f64::INFINITY);
         for (&d2, &c) in squared.iter().zip(candidates) {
             if d2 <= limit && d2 < best.1 {
@@ -352,7 +345,7 @@ impl<'a> VoronoiCells<'a> {
 
     /// `D² = δ² + w·|c − c_i|²` of each of `candidates` at `p` (`colour` the photo's there),
     /// infinite for a candidate farther than the nearest plus the reach, which is out
-    /// (compared squared: one square root per point, not six). Plain loops over the six: the
+    /// ([`Self::within_reach`]). Plain loops over the six: the
     /// owner searches run them at every pixel.
     #[inline]
     fn colour_distances(
@@ -362,15 +355,7 @@ impl<'a> VoronoiCells<'a> {
         p: DVec2,
         colour: [f32; 3],
     ) -> [f64; 6] {
-        let mut squared = [0.0f64; 6];
-        let mut nearest = f64::INFINITY;
-        for (d2, &c) in squared.iter_mut().zip(candidates) {
-            *d2 = self.quads[c as usize].delta_squared(p);
-            nearest = nearest.min(*d2);
-        }
-        let limit = nearest.sqrt() + term.reach;
-        // Never under the nearest's own δ² (the square of its root can round below).
-        let limit = (limit * limit).max(nearest);
+        let (mut squared, limit) = self.within_reach(term, candidates, p);
         for (d2, &c) in squared.iter_mut().zip(candidates) {
             *d2 = if *d2 <= limit {
                 *d2 + term.cost(colour, c)
@@ -379,6 +364,22 @@ impl<'a> VoronoiCells<'a> {
             };
         }
         squared
+    }
+
+    /// `δ²` of each of `candidates` at `p`, and the largest `δ²` within the colour term's
+    /// reach of the nearest (`(δ_min + reach)²`, compared squared: one square root per point,
+    /// not six).
+    #[inline]
+    fn within_reach(&self, term: &ColourTerm, candidates: &[u32; 6], p: DVec2) -> ([f64; 6], f64) {
+        let mut squared = [0.0f64; 6];
+        let mut nearest = f64::INFINITY;
+        for (d2, &c) in squared.iter_mut().zip(candidates) {
+            *d2 = self.quads[c as usize].delta_squared(p);
+            nearest = nearest.min(*d2);
+        }
+        let limit = nearest.sqrt() + term.reach;
+        // Never under the nearest's own δ² (the square of its root can round below).
+        (squared, (limit * limit).max(nearest))
     }
 
     /// `∇δ_j − ∇δ_i` at `p` for the owner `i` and runner-up `j` of `o` (zero without one):
