@@ -116,6 +116,17 @@ impl Error {
         }
     }
 
+    /// [`Error::io`] for reading an input: a folder named as one says that `batch` paints
+    /// folders, instead of the system's bare "Is a directory".
+    pub fn input_io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        let path = path.into();
+        if path.is_dir() {
+            let hint = "a folder, not an image: `anisopaint batch FOLDER -s STYLE -o OUT` paints every image in it";
+            return Error::io(path, std::io::Error::new(source.kind(), hint));
+        }
+        Error::io(path, source)
+    }
+
     /// Builds an [`Error::InvalidParameter`].
     pub fn param(key: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::InvalidParameter {

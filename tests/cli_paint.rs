@@ -175,6 +175,11 @@ fn bad_presets_fail_in_one_line() {
             vec!["--set".into(), "metric.max_size=-1".into()],
             "max_size",
         ),
+        // The override named as written, not a line and column of a text the user never saw.
+        (
+            vec!["--set".into(), "look.relief=abc".into()],
+            "--set look.relief=abc: invalid type",
+        ),
     ];
     for (extra, expect) in cases {
         let assert = bin()
@@ -188,6 +193,19 @@ fn bad_presets_fail_in_one_line() {
         assert!(stderr.contains(expect), "{extra:?}: {stderr}");
         assert!(!out.exists());
     }
+}
+
+#[test]
+fn a_folder_to_paint_is_pointed_to_batch() {
+    let dir = tempfile::tempdir().unwrap();
+    let assert = bin()
+        .args(["paint", "samples", "-o"])
+        .arg(dir.path().join("o.png"))
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("samples: a folder") && stderr.contains("anisopaint batch"));
 }
 
 #[test]

@@ -30,7 +30,7 @@ pub const MAX_SIDE: u32 = 1 << 16;
 /// `-` reads standard input. A file cut short is refused, whatever the decoder would make of it.
 pub fn read_photo(path: &Path) -> Result<DynamicImage> {
     if !is_stdout(path) {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = std::fs::read(path).map_err(|e| Error::input_io(path, e))?;
         return decode_photo(path, &bytes);
     }
     let mut bytes = Vec::new();

@@ -267,7 +267,11 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
             format!("{value:?}")
         };
         let text = format!("[{section}]\n{field} = {value}\n");
-        let over = parse(&text, &format!("--set {set}"))?;
+        // The line and column `parse` would give point into this one-line text, not
+        // anything the user wrote: the override itself is named instead.
+        let over: PresetFile = toml::from_str(&text).map_err(|e| {
+            Error::param(format!("style --set {set}"), e.message().replace('\n', " "))
+        })?;
         preset.file = merge(preset.file.clone(), over);
     }
     Ok(())
