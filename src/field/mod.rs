@@ -64,10 +64,11 @@ pub fn flatten_on_paper(photo: DynamicImage) -> DynamicImage {
 /// the Gaussian's σ less the blocks' own spread. The integrating Gaussian's σ is at least
 /// twice the block, so the integrated tensor is band-limited at the coarse grid (its spectrum
 /// at the coarse Nyquist frequency is below 1e-8): integrating the block means instead of
-/// every node changes it by little more than rounding (tested against the integration at
-/// analysis resolution), on a quarter of the nodes or fewer with a kernel half as long, and
-/// every step of the metric (eigen-decomposition, sizes, gradation, smoothing) works on that
-/// grid too. The tensor returned is at analysis resolution (the outlines draw on its grid),
+/// every node moves it by about 1 % of the largest trace at most (more in the last rows, where
+/// each grid extends its own edge nodes) and the ellipses by about as much (tested against the
+/// integration at analysis resolution), for a quarter of the nodes or fewer and a kernel half
+/// as long; every step of the metric (eigen-decomposition, sizes, gradation, smoothing) works
+/// on that grid too. The tensor returned is at analysis resolution (the outlines draw on its grid),
 /// read bilinearly from the coarse one. The metric reads only the detail above the photo's
 /// grain ([`noise`]).
 #[must_use]
