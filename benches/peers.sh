@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Whole processes side by side with the peers of issue 14, on this machine, in one run:
 #   1. the sampler against BAMG (Debian package freefem++, `ffbamg`) on the rotating 4:1 field
-#      of about 11 000 ellipses: wall time (median of RUNS), and the packing of both measured by
+#      of about 11 000 ellipses: wall time (RUNS alternating pairs: the median of each and of
+#      the pairs' ratios), and the packing of both measured by
 #      benches/packing.py (coverage, overlap, count, nearest-neighbour d), which imports nothing
 #      from the crate;
 #   2. one million samples (constant 2:1 metric, semi-axes 3 and 1.5 px, 4096² .npy): wall time
 #      and peak memory of `anisopaint sample --out`;
 #   3. `paint -s mosaic` of a 2048² photo against `gegl:mosaic tile-size=15` (Debian package
-#      gegl);
+#      gegl), in alternating pairs as 1;
 #   4. `batch --jobs 2` against GNU parallel -j2 running single paints (Debian package
 #      parallel) over 24 one-megapixel photos.
 #
@@ -47,20 +48,42 @@ timed() {
   printf '%s %s\n' "$(printf '%s\n' "${walls[@]}" | sort -g | sed -n "$(((RUNS + 1) / 2))p")" "$rss"
 }
 
+# Two commands (strings for sh) run alternately RUNS times, so each pair sees the machine at
+# the same moment (on a shared VM its speed drifts by tens of per cent over minutes): the
+# median wall of each, the median of the pairs' ratios (first / second), and each one's last
+# peak RSS in MB.
+paired() {
+  local a=() b=() r=() rss_a=0 rss_b=0
+  for _ in $(seq "$RUNS"); do
+    /usr/bin/time -f '%e %M' -o t.txt sh -c "exec $1" >/dev/null 2>&1
+    read -r wa kb <t.txt
+    rss_a=$((kb / 1024))
+    /usr/bin/time -f '%e %M' -o t.txt sh -c "exec $2" >/dev/null 2>&1
+    read -r wb kb <t.txt
+    rss_b=$((kb / 1024))
+    a+=("$wa")
+    b+=("$wb")
+    r+=("$(echo "scale=3; $wa / $wb" | bc)")
+  done
+  local mid=$(((RUNS + 1) / 2))
+  median() { printf '%s\n' "$@" | sort -g | sed -n "${mid}p"; }
+  printf '%s %s %s %s %s\n' "$(median "${a[@]}")" "$rss_a" "$(median "${b[@]}")" "$rss_b" "$(median "${r[@]}")"
+}
+
 for w in "${what[@]}"; do
   case $w in
   sampler)
     "$PYTHON" "$packing" field rotating rot.npy
     "$PYTHON" "$packing" bamg-inputs rot.npy .
-    read -r ours ours_mb < <(timed "$bin" sample rot.npy -q --out ours.csv)
+    read -r ours ours_mb bamg bamg_mb ratio < <(paired "$bin sample rot.npy -q --out ours.csv" \
+      "ffbamg -b bg.mesh -M bg.mtr -o bamg.mesh")
     read -r lat lat_mb < <(timed "$bin" sample rot.npy -q --out lattice.csv --set sampler.seeding=darts)
-    read -r bamg bamg_mb < <(timed ffbamg -b bg.mesh -M bg.mtr -o bamg.mesh)
     "$PYTHON" "$packing" bamg-samples bamg.mesh rot.npy bamg.csv
     echo "rotating 4:1 field, 11 000 ellipses, median wall of $RUNS"
     echo "  anisopaint sample: $ours s, $ours_mb MB; $("$PYTHON" "$packing" eval ours.csv rot.npy)"
     echo "  ... darts seed:    $lat s, $lat_mb MB; $("$PYTHON" "$packing" eval lattice.csv rot.npy)"
     echo "  BAMG (ffbamg):     $bamg s, $bamg_mb MB; $("$PYTHON" "$packing" eval bamg.csv rot.npy)"
-    echo "  ratio ours / BAMG: $(echo "scale=2; $ours / $bamg" | bc)"
+    echo "  ratio ours / BAMG: $ratio (median of $RUNS alternating pairs)"
     ;;
   million)
     "$PYTHON" "$packing" field constant2 c2.npy --side 4096
@@ -72,9 +95,9 @@ for w in "${what[@]}"; do
     ;;
   mosaic)
     "$PYTHON" -c "from PIL import Image; Image.open('$photos/coffee.png').convert('RGB').resize((2048, 2048), Image.BICUBIC).save('p2048.png')"
-    read -r ours ours_mb < <(timed "$bin" paint p2048.png -s mosaic -q -o ours2048.png)
-    read -r gegl gegl_mb < <(timed gegl p2048.png -o gegl2048.png -- gegl:mosaic tile-size=15 seed=1)
-    echo "2048² mosaic, median wall of $RUNS: anisopaint $ours s ($ours_mb MB), GEGL $gegl s ($gegl_mb MB), ratio $(echo "scale=2; $ours / $gegl" | bc)"
+    read -r ours ours_mb gegl gegl_mb ratio < <(paired "$bin paint p2048.png -s mosaic -q -o ours2048.png" \
+      "gegl p2048.png -o gegl2048.png -- gegl:mosaic tile-size=15 seed=1")
+    echo "2048² mosaic, median wall of $RUNS alternating pairs: anisopaint $ours s ($ours_mb MB), GEGL $gegl s ($gegl_mb MB), ratio $ratio"
     ;;
   batch)
     mkdir -p in out_batch out_parallel
