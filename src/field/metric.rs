@@ -322,23 +322,33 @@ type Lerp = (usize, usize, f64);
 /// Limits the growth of `size` to `gradation` per pixel (8-neighbour chamfer distance, two
 /// sweeps): afterwards `size(p) ≤ size(q) + gradation·|p − q|` for all pixels.
 fn limit_gradation(size: &mut [f32], cols: usize, rows: usize, gradation: f32) {
-    let diag = gradation * std::f32::consts::SQRT_2;
     // Each sweep is serial (a node reads the one just relaxed before it), so its interior
     // nodes, whose four neighbours all exist, are relaxed without a bounds check per
     // neighbour; the border nodes take `relax`'s checks. The same minima either way.
+    let (forward, backward) = gradation_neighbours(gradation);
+    for y in 0..rows {
+        sweep_row(size, cols, rows, y, false, &forward);
+    }
+    for y in (0..rows).rev() {
+        sweep_row(size, cols, rows, y, true, &backward);
+    }
+}
+
+/// The neighbours (dx, dy) a node of [`limit_gradation`]'s forward and backward sweeps reads,
+/// with the growth allowed over the step to each.
+type Neighbours = [(isize, isize, f32); 4];
+
+/// [`Neighbours`] of the forward sweep (left, and the row above) and of the backward one
+/// (right, and the row below), for `gradation` per pixel (8-neighbour chamfer).
+fn gradation_neighbours(gradation: f32) -> (Neighbours, Neighbours) {
+    let diag = gradation * std::f32::consts::SQRT_2;
     let forward = [
         (-1isize, 0isize, gradation),
         (-1, -1, diag),
         (0, -1, gradation),
         (1, -1, diag),
     ];
-    for y in 0..rows {
-        sweep_row(size, cols, rows, y, false, &forward);
-    }
-    let backward = forward.map(|(dx, dy, w)| (-dx, -dy, w));
-    for y in (0..rows).rev() {
-        sweep_row(size, cols, rows, y, true, &backward);
-    }
+    (forward, forward.map(|(dx, dy, w)| (-dx, -dy, w)))
 }
 
 /// One row `y` of a [`limit_gradation`] sweep, left to right or (`reverse`) right to left.
@@ -348,7 +358,7 @@ fn sweep_row(
     rows: usize,
     y: usize,
     reverse: bool,
-    neighbours: &[(isize, isize, f32); 4],
+    neighbours: &Neighbours,
 ) {
     // The row the sweep came from: above going forward, below going back.
     let inner_row = if reverse { y + 1 < rows } else { y > 0 };
@@ -391,7 +401,7 @@ fn relax(
     rows: usize,
     x: usize,
     y: usize,
-    neighbours: &[(isize, isize, f32); 4],
+    neighbours: &Neighbours,
 ) {
     let i = y * cols + x;
     for &(dx, dy, w) in neighbours {
@@ -495,19 +505,12 @@ mod tests {
 
     /// The unhurried sweeps: every node through `relax`'s bounds checks.
     fn checked_gradation(size: &mut [f32], cols: usize, rows: usize, gradation: f32) {
-        let diag = gradation * std::f32::consts::SQRT_2;
-        let forward = [
-            (-1isize, 0isize, gradation),
-            (-1, -1, diag),
-            (0, -1, gradation),
-            (1, -1, diag),
-        ];
+        let (forward, backward) = gradation_neighbours(gradation);
         for y in 0..rows {
             for x in 0..cols {
                 relax(size, cols, rows, x, y, &forward);
             }
         }
-        let backward = forward.map(|(dx, dy, w)| (-dx, -dy, w));
         for y in (0..rows).rev() {
             for x in (0..cols).rev() {
                 relax(size, cols, rows, x, y, &backward);
