@@ -395,14 +395,7 @@ fn sweep_row(
     relax(size, cols, rows, last, y, neighbours);
 }
 
-fn relax(
-    size: &mut [f32],
-    cols: usize,
-    rows: usize,
-    x: usize,
-    y: usize,
-    neighbours: &Neighbours,
-) {
+fn relax(size: &mut [f32], cols: usize, rows: usize, x: usize, y: usize, neighbours: &Neighbours) {
     let i = y * cols + x;
     for &(dx, dy, w) in neighbours {
         let (nx, ny) = (x as isize + dx, y as isize + dy);
