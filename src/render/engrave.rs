@@ -3,13 +3,17 @@
 //! ([`super::streamlines`], along the metric's long axes, paper section 3) and swelling and
 //! thinning with tone, broken only at strong edges.
 //!
-//! A line's width at a point is its share of the paper across the lines (`≈ d_sep`) times the
-//! ink coverage that gives the photo's lightness there, `(paper − target) / (paper − ink)` with
-//! the tone curve `target = 1 − (1 − L)^gamma`, so the picture seen from afar has the photo's
-//! tones: light areas paper-white, dark ones nearly solid, and the darkest lines swell past
-//! their share until neighbours merge into solid ink (`merge`). The tone is the photo's lightness
-//! blurred over a fifth of a line spacing (finer than the cells), or `tone` for a field without
-//! a photo. Lines are drawn by the share of each pixel's square they ink (`stripes.rs`: a
+//! A line answers for the paper up to half-way to its neighbour on either side. On each side its
+//! ink reaches that half-gap times the ink coverage that gives the photo's lightness over it,
+//! `(paper − target) / (paper − ink)` with the tone curve `target = 1 − (1 − L)^gamma`, so the
+//! picture seen from afar has the photo's tones: light areas paper-white, dark ones nearly
+//! solid, and the darkest lines swell past their share until neighbours merge into solid ink
+//! (`merge`). Taking the two sides apart resolves the tone at half a spacing across the lines
+//! (a mast or a wire between two lines shows), and where lines part unevenly the ink follows
+//! the wider gap instead of overrunning the narrower one (on 20 photos, `tone.py`'s blurred
+//! PSNR 28.9 → 30.3 dB, SSIM 0.845 → 0.899, edge recall 0.828 → 0.869, every photo better).
+//! The tone is the photo's lightness blurred over a fifth of a line spacing (finer than the
+//! cells), or `tone` for a field without a photo. Lines are drawn by the share of each pixel's square they ink (`stripes.rs`: a
 //! hairline keeps its share of ink, a diagonal line no staircase), joined round; a line's own
 //! segments take the maximum where they overlap, neighbouring lines add up (together they ink
 //! the pixels they share), and ink is mixed with the paper in the sRGB encoding, as the hatch
@@ -18,7 +22,7 @@
 
 use super::colour::{bilinear, lightness, linear_of};
 use super::scene::Scene;
-use super::streamlines::{streamlines, Directions, LineLayout, Streamline};
+use super::streamlines::{normal_at, streamlines, Directions, LineLayout, Streamline};
 use super::stripes::band_coverage;
 use super::texture::BLACK_INK;
 use crate::field::blur::round_to_byte;
@@ -69,8 +73,9 @@ impl Default for EngravingParams {
 pub struct Engraving {
     /// The lines.
     pub lines: Vec<Streamline>,
-    /// Width of the ink at every point of every line.
-    pub widths: Vec<Vec<f64>>,
+    /// How far the ink reaches from every point of every line to its left (along
+    /// [`normal_at`]) and to its right, domain units.
+    pub sides: Vec<Vec<[f64; 2]>>,
     /// Separation of the lines, domain units.
     pub d_sep: f64,
 }
@@ -153,28 +158,40 @@ pub fn engrave(scene: &Scene, params: &EngravingParams) -> Engraving {
     );
     let paper = lightness(linear_of(params.paper));
     let room = paper - lightness(linear_of(params.ink));
-    let widths = lines
+    // The ink that gives lightness `l` over a share of paper: its coverage, widened to merge.
+    let ink_over = |l: f32, share: f64| {
+        let target = 1.0 - (1.0 - l.clamp(0.0, 1.0)).powf(params.gamma);
+        let cover = if room > 1e-3 {
+            ((paper - target) / room).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        f64::from(cover) * share * merge(cover)
+    };
+    let sides = lines
         .par_iter()
         .map(|line| {
-            line.points
-                .iter()
-                .zip(&line.shares)
-                .map(|(&p, &share)| {
-                    let l = lightness_at(p).clamp(0.0, 1.0);
-                    let target = 1.0 - (1.0 - l).powf(params.gamma);
-                    let cover = if room > 1e-3 {
-                        ((paper - target) / room).clamp(0.0, 1.0)
-                    } else {
-                        1.0
-                    };
-                    f64::from(cover) * share * merge(cover)
+            (0..line.points.len())
+                .map(|i| {
+                    let (p, [left, right]) = (line.points[i], line.halves[i]);
+                    let n = normal_at(&line.points, i);
+                    // Each side's ink answers for the tone over its own half of the gap (read
+                    // at a quarter and three quarters across it): a light or dark feature
+                    // between two lines (a mast, a wire) moves the facing sides of both, one
+                    // under a line thins it, resolved at half a spacing across the lines.
+                    let over =
+                        |v: DVec2| 0.5 * (lightness_at(p + v * 0.25) + lightness_at(p + v * 0.75));
+                    [
+                        ink_over(over(n * left), left),
+                        ink_over(over(-n * right), right),
+                    ]
                 })
                 .collect()
         })
         .collect();
     Engraving {
         lines,
-        widths,
+        sides,
         d_sep,
     }
 }
@@ -220,6 +237,20 @@ pub fn engraving(scene: &Scene, params: &EngravingParams) -> RgbImage {
     RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
 }
 
+/// The middle of a line's ink and its half-width at every point, from how far it reaches on
+/// either side (`sides`, along [`normal_at`] and against it).
+fn ink_bands(points: &[DVec2], sides: &[[f64; 2]]) -> (Vec<DVec2>, Vec<f64>) {
+    (0..points.len())
+        .map(|i| {
+            let [left, right] = sides[i];
+            (
+                points[i] + normal_at(points, i) * (0.5 * (left - right)),
+                0.5 * (left + right),
+            )
+        })
+        .unzip()
+}
+
 /// Rows of output per band of the parallel rasterisation.
 const BAND_ROWS: usize = 16;
 
@@ -241,13 +272,15 @@ fn coverage(e: &Engraving, width: usize, height: usize, domain: DVec2) -> Vec<f3
     let scale = DVec2::new(width as f64 / domain.x, height as f64 / domain.y);
     let ppu = scale.x.min(scale.y);
     let mut segments: Vec<Segment> = Vec::new();
-    for (id, (line, widths)) in e.lines.iter().zip(&e.widths).enumerate() {
+    for (id, (line, sides)) in e.lines.iter().zip(&e.sides).enumerate() {
+        // The ink's middle and half-width at every point: the two sides' reaches, centred.
+        let (middle, radius) = ink_bands(&line.points, sides);
         for i in 0..line.points.len().saturating_sub(1) {
-            let (ra, rb) = (0.5 * widths[i] * ppu, 0.5 * widths[i + 1] * ppu);
+            let (ra, rb) = (radius[i] * ppu, radius[i + 1] * ppu);
             if ra.max(rb) > 1e-3 {
                 segments.push(Segment {
-                    a: line.points[i] * scale,
-                    b: line.points[i + 1] * scale,
+                    a: middle[i] * scale,
+                    b: middle[i + 1] * scale,
                     ra,
                     rb,
                     line: id as u32,

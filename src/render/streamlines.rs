@@ -16,8 +16,9 @@
 //! average without the sign ambiguity of vectors, and where the fine direction is weak (grain,
 //! noise) the wider one leads, so the lines run calm there instead of swirling.
 //!
-//! Every line point also gets its share of the paper across the lines (half the gaps to its
-//! neighbours on either side), from which the engraving sets the line's width for the tone.
+//! Every line point also gets its share of the paper on either side (half the gap to its
+//! neighbour there), from which the engraving sets how far the line's ink reaches on that side
+//! for the tone there.
 //! Everything is `f64` in domain units (photo pixels); the occupancy grid has cells of `d_sep`,
 //! so a distance query reads at most nine cells. Tracing is sequential and deterministic (tens
 //! of thousands of points at any output size, as the spacing is a share of the diagonal); the
@@ -34,8 +35,9 @@ use std::collections::VecDeque;
 pub struct Streamline {
     /// The points, [`STEP_RATIO`]` · d_sep` apart.
     pub points: Vec<DVec2>,
-    /// At every point, half the gap to the neighbouring line on either side, added.
-    pub shares: Vec<f64>,
+    /// At every point, half the gap to the neighbouring line on its left (along
+    /// [`normal_at`]) and on its right: the paper this line answers for on either side.
+    pub halves: Vec<[f64; 2]>,
 }
 
 /// How the lines are laid.
@@ -177,10 +179,10 @@ pub fn streamlines(
         .into_par_iter()
         .enumerate()
         .map(|(id, points)| {
-            let shares = (0..points.len())
-                .map(|i| grid.share(&points, i, id as u32, d_sep))
+            let halves = (0..points.len())
+                .map(|i| grid.halves(&points, i, id as u32, d_sep))
                 .collect();
-            Streamline { points, shares }
+            Streamline { points, halves }
         })
         .collect()
 }
@@ -412,13 +414,12 @@ impl PackedGrid {
         })
     }
 
-    /// Point `i` of line `line`'s share across the lines: half the gap to the nearest other
-    /// line on its left plus half that on its right.
-    fn share(&self, points: &[DVec2], i: usize, line: u32, d_sep: f64) -> f64 {
+    /// Point `i` of line `line`'s shares across the lines: half the gap to the nearest other
+    /// line on its left (along [`normal_at`]) and half that on its right.
+    fn halves(&self, points: &[DVec2], i: usize, line: u32, d_sep: f64) -> [f64; 2] {
         let p = points[i];
-        let t = (points[(i + 1).min(points.len() - 1)] - points[i.saturating_sub(1)])
-            .normalize_or_zero();
-        let n = t.perp();
+        let n = normal_at(points, i);
+        let t = -n.perp();
         let reach = GAP_REACH * d_sep;
         let (mut left, mut right) = (d_sep, d_sep);
         let (mut found_left, mut found_right) = (false, false);
@@ -440,6 +441,15 @@ impl PackedGrid {
                 found_right = true;
             }
         }
-        0.5 * (left + right)
+        [0.5 * left, 0.5 * right]
     }
+}
+
+/// The unit normal of a polyline at point `i` (its left, the tangent turned a quarter), from
+/// the chord between the points either side.
+#[must_use]
+pub fn normal_at(points: &[DVec2], i: usize) -> DVec2 {
+    (points[(i + 1).min(points.len() - 1)] - points[i.saturating_sub(1)])
+        .normalize_or_zero()
+        .perp()
 }

@@ -21,6 +21,7 @@ use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
 use super::stipple::{dab_colour, dot_centre, stipple_radius};
+use super::streamlines::normal_at;
 use super::texture::{
     cell_tones, smoothstep, spacing, texture_frames, Ink, TextureKind, TextureParams,
 };
@@ -473,7 +474,7 @@ fn num(v: f32) -> Num {
 }
 
 /// Writes the engraving of `scene`: paper, then every line as one filled outline whose width
-/// follows the raster's (its two sides offset by half the width at every point).
+/// follows the raster's (its two sides as far from the line as its ink reaches on each).
 fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
     let r = scene.raster;
     let scale = glam::DVec2::new(r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
@@ -486,23 +487,18 @@ fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
     let _ = writeln!(out, r#"<g fill="{}">"#, hex(linear_of(params.ink)));
     let e = engrave(scene, params);
     let mut outline = Vec::new();
-    for (line, widths) in e.lines.iter().zip(&e.widths) {
+    for (line, sides) in e.lines.iter().zip(&e.sides) {
         let pts = &line.points;
-        if pts.len() < 2 || widths.iter().all(|&w| w * ppu < 0.05) {
+        if pts.len() < 2 || sides.iter().all(|&[l, r]| (l + r) * ppu < 0.05) {
             continue;
         }
         outline.clear();
-        let normal = |i: usize| {
-            (pts[(i + 1).min(pts.len() - 1)] - pts[i.saturating_sub(1)])
-                .normalize_or_zero()
-                .perp()
-        };
         for (i, &p) in pts.iter().enumerate() {
-            let q = (p + normal(i) * (0.5 * widths[i])) * scale;
+            let q = (p + normal_at(pts, i) * sides[i][0]) * scale;
             outline.push([q.x as f32, q.y as f32]);
         }
         for (i, &p) in pts.iter().enumerate().rev() {
-            let q = (p - normal(i) * (0.5 * widths[i])) * scale;
+            let q = (p - normal_at(pts, i) * sides[i][1]) * scale;
             outline.push([q.x as f32, q.y as f32]);
         }
         let mut d = String::new();
