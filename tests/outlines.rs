@@ -1,7 +1,8 @@
 //! Outlines (flow-based difference of Gaussians) on pictures whose answer is known: a black
 //! disc on white gets a closed line along its rim and nothing inside or far outside; a flat
-//! picture gets no line at all; the ink looks draw their outlines over the hatching; a red
-//! disc's outline is drawn in the ink asked for, or in the photo's red.
+//! picture gets no line at all; the ink looks draw their outlines over the hatching, taking
+//! the outlines' ink out of their own tone; a red disc's outline is drawn in the ink asked
+//! for, or in the photo's red.
 
 use anisopaint::input::photo_field;
 use anisopaint::render::outline::{draw_outlines, line_map, OutlineParams};
@@ -123,7 +124,9 @@ fn ink_looks_draw_outlines_over_their_hatching() {
         rim_with < rim_without - 10.0,
         "rim {rim_with} with, {rim_without} without"
     );
-    assert!(rim_with < 90.0, "the rim is not dark: {rim_with}");
+    // The hatching under the outline draws less, for the outline's own ink (see the next
+    // test), and the rim still reads well darker than the disc's grey.
+    assert!(rim_with < 105.0, "the rim is not dark: {rim_with}");
     let far = |img: &RgbImage| ring_mean(img, RADIUS + 15.0, RADIUS + 30.0);
     assert!((far(&with) - far(&without)).abs() < 1.0);
 }
@@ -149,10 +152,11 @@ fn outlines_take_their_ink_or_the_photos_colour_under_them() {
         anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
         let params = preset.outline().unwrap();
         let mut canvas = RgbImage::from_pixel(SIDE, SIDE, image::Rgb([255, 255, 255]));
+        let lines = line_map(&photo, &loaded.raw, &params);
         draw_outlines(
             &mut canvas,
             &photo,
-            &loaded.raw,
+            (&loaded.raw, &lines),
             loaded.metric.domain(),
             &params,
         );
@@ -189,4 +193,47 @@ fn outlines_take_their_ink_or_the_photos_colour_under_them() {
         err.contains("look.outline_ink") && err.contains("pixel"),
         "{err}"
     );
+}
+
+#[test]
+fn outlines_take_their_ink_out_of_the_ink_looks_tone() {
+    // Around the rim of a mid-grey disc the outlines ink the dark side of the edge. The ink
+    // looks draw that much less there themselves, so the band 8 px either side of the rim
+    // keeps the tone of the look without outlines: measured 2.6 (pen-hatch), 3.0
+    // (crosshatch) and 3.5 (engraving) levels of luma darker. Laid on top of the look's own
+    // tone they darkened it by 10.5, 10.8 and 11.0.
+    let photo = disc_of(120);
+    let band = |img: &RgbImage| {
+        let c = f64::from(SIDE) / 2.0;
+        let (mut sum, mut n) = (0.0, 0.0);
+        for (x, y, p) in img.enumerate_pixels() {
+            let r = (f64::from(x) + 0.5 - c).hypot(f64::from(y) + 0.5 - c);
+            if (RADIUS - 8.0..RADIUS + 8.0).contains(&r) {
+                let luma = 0.299 * f64::from(p.0[0]) + 0.587 * f64::from(p.0[1]);
+                sum += luma + 0.114 * f64::from(p.0[2]);
+                n += 1.0;
+            }
+        }
+        sum / n
+    };
+    for style in ["pen-hatch", "crosshatch", "engraving"] {
+        let paint = |outlines: &str| {
+            let mut preset = anisopaint::style::load(style).unwrap();
+            let sets = [format!("look.outlines={outlines}")];
+            anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
+            let recipe =
+                anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1))
+                    .unwrap();
+            let loaded = photo_field(photo.clone(), &recipe.field.metric);
+            let silent = &anisopaint::progress::Silent;
+            anisopaint::paint::paint_loaded(&loaded, &recipe, Default::default(), silent)
+                .unwrap()
+                .image
+        };
+        let (with, without) = (band(&paint("1")), band(&paint("0")));
+        assert!(
+            (with - without).abs() < 6.0,
+            "{style}: {with:.1} with outlines, {without:.1} without"
+        );
+    }
 }

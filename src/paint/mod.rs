@@ -19,8 +19,9 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
-use crate::render::outline::{draw_outlines, outline_mask, OutlineParams};
+use crate::render::outline::{draw_outlines, line_map, outline_mask, OutlineParams};
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
+use crate::render::outline_share::OutlineShare;
 use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
@@ -204,11 +205,21 @@ fn draw_reading(
             };
             label_map(&sites.cells(), &raster)
         });
+        // The outlines' line map, found once: the ink looks leave the share the outlines will
+        // ink out of their own tone, then the lines are laid over the look.
+        let lines = match &loaded.photo {
+            Some(photo) if recipe.outline.strength > 0.0 => {
+                line_map(photo, &loaded.raw, &recipe.outline)
+            }
+            _ => Vec::new(),
+        };
+        let share = (!lines.is_empty() && recipe.look.inks_its_tone())
+            .then(|| OutlineShare::new(&lines, &loaded.raw, recipe.outline.strength));
         let (mut image, mut svg) = crate::render::draw(
             &recipe.look,
             sites.cells(),
             &loaded.metric,
-            loaded.photo.as_ref(),
+            (loaded.photo.as_ref(), share.as_ref()),
             size,
             extras.svg,
         )?;
@@ -216,7 +227,7 @@ fn draw_reading(
             draw_outlines(
                 &mut image,
                 photo,
-                &loaded.raw,
+                (&loaded.raw, &lines),
                 loaded.metric.domain(),
                 &recipe.outline,
             );

@@ -159,13 +159,17 @@ pub fn engrave(scene: &Scene, params: &EngravingParams) -> Engraving {
     let paper = lightness(linear_of(params.paper));
     let room = paper - lightness(linear_of(params.ink));
     // The ink that gives lightness `l` over a share of paper: its coverage, widened to merge.
-    let ink_over = |l: f32, share: f64| {
+    // Less where the outlines laid over the engraving will ink some of that tone.
+    let ink_over = |l: f32, share: f64, at: DVec2| {
         let target = 1.0 - (1.0 - l.clamp(0.0, 1.0)).powf(params.gamma);
-        let cover = if room > 1e-3 {
+        let mut cover = if room > 1e-3 {
             ((paper - target) / room).clamp(0.0, 1.0)
         } else {
             1.0
         };
+        if let Some(outlines) = scene.outline_share {
+            cover = outlines.leave_out(cover, at);
+        }
         f64::from(cover) * share * merge(cover)
     };
     let sides = lines
@@ -182,8 +186,8 @@ pub fn engrave(scene: &Scene, params: &EngravingParams) -> Engraving {
                     let over =
                         |v: DVec2| 0.5 * (lightness_at(p + v * 0.25) + lightness_at(p + v * 0.75));
                     [
-                        ink_over(over(n * left), left),
-                        ink_over(over(-n * right), right),
+                        ink_over(over(n * left), left, p + n * (0.5 * left)),
+                        ink_over(over(-n * right), right, p - n * (0.5 * right)),
                     ]
                 })
                 .collect()

@@ -75,6 +75,21 @@ impl Look {
         }
     }
 
+    /// Whether the look lays one ink over paper in the photo's tone (hatching, cross-hatching,
+    /// engraving), and so leaves out of its tone what outlines laid over it will ink
+    /// ([`Scene::outline_share`]).
+    #[must_use]
+    pub fn inks_its_tone(&self) -> bool {
+        match self {
+            Look::Texture(p) => {
+                use super::texture::TextureKind;
+                matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch)
+            }
+            Look::Engraving(_) => true,
+            _ => false,
+        }
+    }
+
     /// Renders `scene`.
     #[must_use]
     pub fn render(&self, scene: &Scene) -> RgbImage {

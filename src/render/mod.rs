@@ -29,6 +29,7 @@ pub mod look;
 pub mod mosaic;
 pub mod outline;
 pub mod outline_ink;
+pub mod outline_share;
 pub mod pieces;
 pub mod preview;
 pub mod raster;
@@ -55,6 +56,7 @@ use crate::field::{Tensor, TensorField};
 use crate::sampling::AnisotropicDelaunay;
 use glam::DVec2;
 use image::{DynamicImage, RgbImage};
+use outline_share::OutlineShare;
 
 /// Output size and anti-aliasing of a render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,7 +118,7 @@ pub fn render_with_svg(
         look,
         VoronoiCells::new(positions, metrics, mesh),
         field,
-        photo,
+        (photo, None),
         size,
         svg,
     )
@@ -128,14 +130,15 @@ pub fn draw(
     look: &Look,
     cells: VoronoiCells,
     field: &TensorField,
-    photo: Option<&DynamicImage>,
+    (photo, outline_share): (Option<&DynamicImage>, Option<&OutlineShare>),
     size: RenderSize,
     svg: bool,
 ) -> crate::Result<(RgbImage, Option<String>)> {
     if svg {
         look.check_vector_form()?;
     }
-    let scene = scene(cells, field, photo, size);
+    let mut scene = scene(cells, field, photo, size);
+    scene.outline_share = outline_share;
     if let (Look::Glyphs(p), true) = (look, svg) {
         // The glyphs the picture lays are the SVG's: painted once.
         let (image, laid) = glyphs::painted(&scene, p);

@@ -244,18 +244,18 @@ impl QuietTiles {
 }
 
 /// Lays the outlines of `photo` over `image`, the painting at any size of `domain` (the
-/// photo's size in domain units), in `params.ink` ([`OutlineInk`]).
+/// photo's size in domain units), in `params.ink` ([`OutlineInk`]): `lines`, their
+/// [`line_map`] on `tensor`'s grid.
 pub fn draw_outlines(
     image: &mut RgbImage,
     photo: &DynamicImage,
-    tensor: &TensorField,
+    (tensor, lines): (&TensorField, &[f32]),
     domain: glam::DVec2,
     params: &OutlineParams,
 ) {
     if params.strength <= 0.0 {
         return;
     }
-    let lines = line_map(photo, tensor, params);
     let (w, h) = (image.width() as usize, image.height() as usize);
     let map = PictureGrid::new(tensor, domain, (w, h));
     let photo_ink = (params.ink == OutlineInk::Pixel).then(|| PhotoInk::new(photo, (w, h)));
@@ -270,7 +270,7 @@ pub fn draw_outlines(
         .for_each(|(y, row)| {
             let across = map.row(y);
             for (x, px) in row.chunks_exact_mut(3).enumerate() {
-                let a = params.strength * map.value(&lines, &across, x);
+                let a = params.strength * map.value(lines, &across, x);
                 if a > 0.0 {
                     let ink = photo_ink.as_ref().map_or(one_ink, |p| p.at(x, y));
                     for k in 0..3 {

@@ -7,6 +7,7 @@
 use super::border_distance::BorderDistances;
 use super::cellmap::CellMap;
 use super::colour::{anisotropy_colours, cell_means, cell_means_and_widths, to_srgb, Linear};
+use super::outline_share::OutlineShare;
 use super::raster::Raster;
 use super::voronoi::{Owner, VoronoiCells, BORDER_EXACT_PX, NONE};
 use crate::field::TensorField;
@@ -27,6 +28,9 @@ pub struct Scene<'a> {
     pub field: &'a TensorField,
     /// The photo, if the input was one.
     pub photo: Option<&'a DynamicImage>,
+    /// How much of the picture the outlines laid over the look will ink around each point,
+    /// which the ink looks leave out of their own tone.
+    pub outline_share: Option<&'a OutlineShare>,
     /// Output size and supersampling.
     pub raster: Raster,
     /// Output pixels per domain unit.
@@ -65,6 +69,7 @@ impl<'a> Scene<'a> {
             thin_widths: widths,
             field,
             photo,
+            outline_share: None,
             pixels_per_unit: raster.pixels_per_unit(),
             raster,
         }

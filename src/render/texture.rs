@@ -282,6 +282,9 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         let (mut darkness, cell_ink) = tones[site as usize];
         if let Some(grid) = &tone_grid {
             darkness = grid.at(p);
+            if let Some(share) = scene.outline_share {
+                darkness = share.leave_out(darkness, p);
+            }
         }
         // The ink, read from the photo only where some is laid.
         let ink = || match (params.ink, &blurred) {
