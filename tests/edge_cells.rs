@@ -330,6 +330,7 @@ fn shading_settled_pixels_without_the_search_gives_the_same_picture() {
     // and it must really run at the photo's own size (on most pixels of a clean picture, on
     // few of a grainy one, whose cells leave specks), and never where the map's pixels are
     // not the raster's.
+    use anisopaint::render::scene::Average;
     use anisopaint::render::{Owner, Scene};
     use std::sync::atomic::{AtomicUsize, Ordering};
     let clean = line_picture(30.0, 3.0);
@@ -356,13 +357,14 @@ fn shading_settled_pixels_without_the_search_gives_the_same_picture() {
             let scene = Scene::new(sites.cells(), &loaded.metric, Some(&photo), w, h, ss);
             let calls = AtomicUsize::new(0);
             // `colour` inks within 1 px of a border: the settled pixels' clearance covers it.
-            let settled = scene.shade_settled(1.0, colour, |p, delta_squared, o| {
-                calls.fetch_add(1, Ordering::Relaxed);
-                assert_eq!(delta_squared, scene.cells.delta_squared(o.site, p));
-                assert_eq!(o.border_px, f32::INFINITY);
-                colour(p, o)
-            });
-            let searched = scene.shade(1.0, colour);
+            let settled =
+                scene.shade_settled((1.0, Average::Linear), colour, |p, delta_squared, o| {
+                    calls.fetch_add(1, Ordering::Relaxed);
+                    assert_eq!(delta_squared, scene.cells.delta_squared(o.site, p));
+                    assert_eq!(o.border_px, f32::INFINITY);
+                    colour(p, o)
+                });
+            let searched = scene.shade((1.0, Average::Linear), colour);
             assert!(
                 settled == searched,
                 "{name} {w}x{h}, {ss}x{ss}: pictures differ"

@@ -13,7 +13,7 @@
 //! Shading is `f32` in linear light.
 
 use super::colour::{mix, salt, site_hash, Linear};
-use super::scene::Scene;
+use super::scene::{Average, Scene};
 use super::voronoi::Owner;
 use glam::DVec2;
 use image::RgbImage;
@@ -81,7 +81,7 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     };
     // Pixels the cell map settles have no border near: no ink (`border_coverage` is 0).
     scene.shade_settled(
-        width,
+        (width, Average::Linear),
         |p, o| {
             let c = inside(p, scene.cells.delta_squared(o.site, p), o);
             if width > 0.0 {

@@ -92,7 +92,7 @@ impl<'a> Scene<'a> {
     /// on. Inside a cell one evaluation suffices: the textures anti-alias themselves over the
     /// pixel's footprint.
     #[must_use]
-    pub fn shade<F>(&self, border_px: f32, colour: F) -> RgbImage
+    pub fn shade<F>(&self, (border_px, average): (f32, Average), colour: F) -> RgbImage
     where
         F: Fn(DVec2, &Owner) -> Linear + Sync,
     {
@@ -107,7 +107,7 @@ impl<'a> Scene<'a> {
         self.cells
             .shade_rows(&centres, &mut out, 3 * r.width, |y, owners, row| {
                 for (x, (px, o)) in row.chunks_exact_mut(3).zip(owners).enumerate() {
-                    self.shade_pixel((x, y), o, aligned, &colour, steps, px);
+                    self.shade_pixel((x, y), o, (aligned, average), &colour, steps, px);
                 }
             });
         RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
@@ -147,15 +147,15 @@ impl<'a> Scene<'a> {
     /// (wider than 1.5 px), those within its reach are shaded by `colour`, their
     /// [`Owner::border_px`] the distance to the map's borders ([`BorderDistances`]).
     #[must_use]
-    pub fn shade_settled<F, I>(&self, border_px: f32, colour: F, inside: I) -> RgbImage
+    pub fn shade_settled<F, I>(&self, border: (f32, Average), colour: F, inside: I) -> RgbImage
     where
         F: Fn(DVec2, &Owner) -> Linear + Sync,
         I: Fn(DVec2, f64, &Owner) -> Linear + Sync,
     {
         let Some(term) = self.cells.colour() else {
-            return self.shade(border_px, colour);
+            return self.shade(border, colour);
         };
-        self.shade_settled_with(border_px, &colour, |p, site| {
+        self.shade_settled_with(border, &colour, |p, site| {
             let (delta_squared, o) = self.cells.settled_owner(term, site, p, NONE);
             inside(p, delta_squared, &o)
         })
@@ -165,20 +165,30 @@ impl<'a> Scene<'a> {
     /// the cell (`inside(p, site)`, what `colour` gives there for an owner without a border
     /// near): the owner's distances are not measured at the settled pixels.
     #[must_use]
-    pub fn shade_settled_by_site<F, I>(&self, border_px: f32, colour: F, inside: I) -> RgbImage
+    pub fn shade_settled_by_site<F, I>(
+        &self,
+        border: (f32, Average),
+        colour: F,
+        inside: I,
+    ) -> RgbImage
     where
         F: Fn(DVec2, &Owner) -> Linear + Sync,
         I: Fn(DVec2, u32) -> Linear + Sync,
     {
         if self.cells.colour().is_none() {
-            return self.shade(border_px, colour);
+            return self.shade(border, colour);
         }
-        self.shade_settled_with(border_px, &colour, inside)
+        self.shade_settled_with(border, &colour, inside)
     }
 
     /// The shading of [`Self::shade_settled`] and [`Self::shade_settled_by_site`]:
     /// `inside(p, site)` colours a settled pixel clear of the borders' ink.
-    fn shade_settled_with<F, I>(&self, border_px: f32, colour: &F, inside: I) -> RgbImage
+    fn shade_settled_with<F, I>(
+        &self,
+        (border_px, average): (f32, Average),
+        colour: &F,
+        inside: I,
+    ) -> RgbImage
     where
         F: Fn(DVec2, &Owner) -> Linear + Sync,
         I: Fn(DVec2, u32) -> Linear + Sync,
@@ -225,7 +235,7 @@ impl<'a> Scene<'a> {
                             }
                         }
                         _ => {
-                            self.shade_pixel((x, y), o, aligned, colour, steps, px);
+                            self.shade_pixel((x, y), o, (aligned, average), colour, steps, px);
                         }
                     }
                 }
@@ -243,7 +253,7 @@ impl<'a> Scene<'a> {
         &self,
         (x, y): (usize, usize),
         o: &Owner,
-        map: Option<&CellMap>,
+        (map, average): (Option<&CellMap>, Average),
         colour: &F,
         steps: (DVec2, DVec2),
         px: &mut [u8],
@@ -333,9 +343,19 @@ impl<'a> Scene<'a> {
                         }
                         let c = colour(q, &oq);
                         for k in 0..3 {
-                            sum[k] += c[k];
+                            sum[k] += match average {
+                                Average::Linear => c[k],
+                                Average::Encoded => f32::from(to_srgb(c[k])),
+                            };
                         }
                     }
+                }
+                if average == Average::Encoded {
+                    for k in 0..3 {
+                        // Round half up of a mean of codes, in [0, 255].
+                        px[k] = (sum[k] * weight + 0.5) as u8;
+                    }
+                    return;
                 }
                 sum.map(|v| v * weight)
             } else {
@@ -345,6 +365,19 @@ impl<'a> Scene<'a> {
             px[k] = to_srgb(c[k]);
         }
     }
+}
+
+/// How [`Scene::shade`] averages the points of a supersampled pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Average {
+    /// In linear light, as light from the colours meeting at a border mixes.
+    Linear,
+    /// In the sRGB encoding, as the ink looks mix ink and paper in a partly inked pixel (so
+    /// that the picture seen from afar has the photo's tones): averaged in linear light, a
+    /// border pixel whose points fall on ink and on paper came out lighter than its share of
+    /// ink, and a hatching over a textured photo, with its many small cells, 3 to 4 levels
+    /// lighter than the photo.
+    Encoded,
 }
 
 /// Added to a settled pixel's distance to the cell map's borders: they run through the

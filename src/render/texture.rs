@@ -21,7 +21,7 @@ use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
 use super::rounding::{cube_root, floor};
-use super::scene::Scene;
+use super::scene::{Average, Scene};
 use super::stipple::{dab_at, dot_coverage_at, next_render, stipple_radius, Dab};
 use super::stripes::stripe_coverage;
 use super::voronoi::Owner;
@@ -360,7 +360,12 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     // Settled pixels have no border near (their owner's `border_px` is infinite): the same
     // colour, without the owner search, and without measuring the owner's `δ` or `D`, which the
     // colour does not read (only the site and the border distance).
-    scene.shade_settled_by_site(border_width, colour, |p, site| {
+    // Ink on paper is averaged as it is mixed, in the encoding; a stroke's paint as light.
+    let average = match params.kind {
+        TextureKind::Stroke => Average::Linear,
+        _ => Average::Encoded,
+    };
+    scene.shade_settled_by_site((border_width, average), colour, |p, site| {
         colour(
             p,
             &Owner {
