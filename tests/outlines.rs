@@ -199,7 +199,7 @@ fn outlines_take_their_ink_or_the_photos_colour_under_them() {
 fn outlines_take_their_ink_out_of_the_ink_looks_tone() {
     // Around the rim of a mid-grey disc the outlines ink the dark side of the edge. The ink
     // looks draw that much less there themselves, so the band 8 px either side of the rim
-    // keeps the tone of the look without outlines: measured 2.6 (pen-hatch), 3.0
+    // keeps the tone of the look without outlines: measured 1.8 (pen-hatch), 2.3
     // (crosshatch) and 3.5 (engraving) levels of luma darker. Laid on top of the look's own
     // tone they darkened it by 10.5, 10.8 and 11.0.
     let photo = disc_of(120);

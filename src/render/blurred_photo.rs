@@ -7,7 +7,9 @@
 
 use super::colour::{bilinear, Linear};
 use super::local_tone::LocalTone;
+use super::outline_share::OutlineShare;
 use glam::DVec2;
+use rayon::prelude::*;
 
 /// Blur of the photo under the ink, as a fraction of the photo's diagonal: about half a pixel
 /// of a 512² photo, at most 0.7 px of the reduced image (diagonal ≤ 1024) a larger photo is
@@ -56,13 +58,27 @@ impl BlurredPhoto {
         })
     }
 
-    /// The coverage `tone` gives each of its pixels.
-    pub(super) fn tone_grid(&self, tone: &LocalTone) -> ToneGrid {
+    /// The coverage `tone` gives each of its pixels, less what `outlines` laid over the look
+    /// will ink there ([`OutlineShare::leave_out`]).
+    pub(super) fn tone_grid(&self, tone: &LocalTone, outlines: Option<&OutlineShare>) -> ToneGrid {
+        let (width, factor) = (self.image.width, self.factor);
+        let mut coverage = tone.coverages(&self.image.data);
+        if let Some(share) = outlines {
+            coverage
+                .par_chunks_mut(width)
+                .enumerate()
+                .for_each(|(y, row)| {
+                    for (x, c) in row.iter_mut().enumerate() {
+                        let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5) * factor;
+                        *c = share.leave_out(*c, p);
+                    }
+                });
+        }
         ToneGrid {
-            coverage: tone.coverages(&self.image.data),
-            width: self.image.width,
+            coverage,
+            width,
             height: self.image.height,
-            factor: self.factor,
+            factor,
         }
     }
 }

@@ -258,7 +258,9 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         _ => None,
     };
     let tone_grid = match (&local_tone, scene.photo) {
-        (Some(tone), Some(photo)) => Some(BlurredPhoto::new(photo).tone_grid(tone)),
+        (Some(tone), Some(photo)) => {
+            Some(BlurredPhoto::new(photo).tone_grid(tone, scene.outline_share))
+        }
         _ => None,
     };
     // Per cell, once: how much of the texture shows (flat cells take their tone) and the
@@ -282,9 +284,6 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         let (mut darkness, cell_ink) = tones[site as usize];
         if let Some(grid) = &tone_grid {
             darkness = grid.at(p);
-            if let Some(share) = scene.outline_share {
-                darkness = share.leave_out(darkness, p);
-            }
         }
         // The ink, read from the photo only where some is laid.
         let ink = || match (params.ink, &blurred) {
