@@ -213,7 +213,10 @@ fn draw_reading(
             }
             _ => Vec::new(),
         };
-        let share = (!lines.is_empty() && recipe.look.inks_its_tone())
+        // (Outlines in the photo's own colour darken little: the look keeps its tone.)
+        let share = (!lines.is_empty()
+            && recipe.look.inks_its_tone()
+            && recipe.outline.ink != OutlineInk::Pixel)
             .then(|| OutlineShare::new(&lines, &loaded.raw, recipe.outline.strength));
         let (mut image, mut svg) = crate::render::draw(
             &recipe.look,

@@ -23,8 +23,10 @@ pub struct OutlineShare {
     spacing: f64,
 }
 
-/// σ of the blur of the line map, in nodes of the structure tensor's grid (analysis pixels):
-/// about a line spacing of the hatching at the analysis resolution.
+/// σ of the blur of the line map, in nodes of the structure tensor's grid (analysis pixels),
+/// about a line spacing of the hatching there. Of 1, 1.5 and 2 nodes, the one that loses on
+/// none of `tone.py`'s figures (blurred PSNR, SSIM, edge recall) for pen-hatch, crosshatch and
+/// engraving on 20 photos: at 1 pen-hatch's recall fell 0.001, at 2 its PSNR 0.4 dB.
 pub const SHARE_BLUR: f32 = 1.5;
 
 /// The outlines never take more than this share of an area's tone: the look keeps some ink
@@ -81,4 +83,34 @@ fn axis(u: f64, n: usize) -> (usize, usize, f32) {
     let t = if t.is_nan() { 0.0 } else { t };
     let i = (t as usize).min(last);
     (i, (i + 1).min(last), (t - i as f64) as f32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_look_and_the_outlines_together_give_the_photos_darkness() {
+        // Uniform lines (no blur can change them) inking half of every node.
+        let tensor = TensorField::from_fn(8, 6, |_| crate::field::Tensor::new(1.0, 0.0, 1.0));
+        let share = OutlineShare::new(&[0.5; 48], &tensor, 1.0);
+        let p = DVec2::new(3.3, 2.7);
+        assert!((share.at(p) - 0.5).abs() < 1e-6);
+        for d in [0.0f32, 0.3, 0.5, 0.8, 1.0] {
+            let left = share.leave_out(d, p);
+            if d >= 0.5 {
+                // e + (1 − e)·d' = d.
+                assert!((0.5 + 0.5 * left - d).abs() < 1e-6, "{d}: {left}");
+            } else {
+                // Lighter than the outlines alone: the look draws no ink.
+                assert_eq!(left, 0.0);
+            }
+        }
+        // At half strength the lines ink a quarter.
+        let half = OutlineShare::new(&[0.5; 48], &tensor, 0.5);
+        assert!((half.at(p) - 0.25).abs() < 1e-6);
+        // No lines, no change.
+        let none = OutlineShare::new(&[0.0; 48], &tensor, 1.0);
+        assert_eq!(none.leave_out(0.37, p), 0.37);
+    }
 }
