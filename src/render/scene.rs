@@ -1,6 +1,7 @@
 //! What every look draws from: a [`Scene`] (the generalized Voronoi cells of paper section 6,
 //! their colours, the field, the output size). Cell looks shade raster points through
-//! [`Scene::shade`], which averages `supersample²` points per pixel in linear light, or
+//! [`Scene::shade`], which averages `supersample²` points per pixel in linear light or, for
+//! ink on paper, in the sRGB encoding ([`Average`]), or
 //! [`Scene::shade_settled`], which shades the pixels the cell map settles inside their cells
 //! without the owner search. The looks import this file; it imports none of them.
 
@@ -75,8 +76,9 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// An image whose every pixel is the linear-light mean of `colour(point, owner)` over its
-    /// raster points.
+    /// An image whose every pixel is the mean of `colour(point, owner)` over its raster points,
+    /// in linear light or in the encoding (`average`), beside a border whose width is
+    /// `border_px`.
     ///
     /// The owner is found at the pixel's centre, with the distance to the border between it
     /// and the runner-up ([`Owner::border_px`], from the first-order border function
