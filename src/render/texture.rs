@@ -14,8 +14,8 @@
 //! sRGB encoding, so the picture seen from afar (or reduced by a viewer, or blurred by an
 //! evaluator) has the photo's tones; the rest of the shading is `f32` in linear light.
 
-use super::blurred_photo::BlurredPhoto;
 pub use super::blurred_photo::INK_BLUR;
+use super::blurred_photo::{BlurredPhoto, ToneGrid};
 use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
 use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
@@ -258,9 +258,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         _ => None,
     };
     let tone_grid = match (&local_tone, scene.photo) {
-        (Some(tone), Some(photo)) => {
-            Some(BlurredPhoto::new(photo).tone_grid(tone, scene.outline_share))
-        }
+        (Some(tone), Some(photo)) => Some(ToneGrid::new(photo, tone, scene.outline_share)),
         _ => None,
     };
     // Per cell, once: how much of the texture shows (flat cells take their tone) and the
