@@ -478,7 +478,7 @@ fn dog_kernel(sigma_c: f32) -> Vec<f32> {
 /// texel blended with its clamped copy is itself), with two conversions instead of eight: the
 /// line map reads tens of these per node, and they were a third of a pen-hatch paint.
 #[inline]
-fn bilinear(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
+pub(super) fn bilinear(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
     blend(values, cols, clamped_axis(x, cols), clamped_axis(y, rows))
 }
 

@@ -52,15 +52,12 @@ impl OutlineShare {
         }
     }
 
-    /// The share at domain point `p` (bilinear between node centres, clamped at the borders).
+    /// The share at domain point `p` (bilinear between node centres, clamped at the borders,
+    /// as the outlines read their line map).
     #[must_use]
     pub fn at(&self, p: DVec2) -> f32 {
-        let (i0, i1, tx) = axis(p.x / self.spacing, self.cols);
-        let (j0, j1, ty) = axis(p.y / self.spacing, self.rows);
-        let v = |i: usize, j: usize| self.values[j * self.cols + i];
-        let top = v(i0, j0) + (v(i1, j0) - v(i0, j0)) * tx;
-        let bottom = v(i0, j1) + (v(i1, j1) - v(i0, j1)) * tx;
-        top + (bottom - top) * ty
+        let node = |u: f64| (u / self.spacing - 0.5) as f32;
+        super::outline::bilinear(&self.values, self.cols, self.rows, node(p.x), node(p.y))
     }
 
     /// The darkness (ink coverage, 0 to 1) a look draws at `p` for the photo's `darkness`
@@ -73,16 +70,6 @@ impl OutlineShare {
         }
         ((darkness - e) / (1.0 - e)).max(0.0)
     }
-}
-
-/// Along one axis of `n` nodes at `u` node spacings: the node at or before `u − ½`, the next
-/// one (clamped), and the weight of the next.
-fn axis(u: f64, n: usize) -> (usize, usize, f32) {
-    let last = n.saturating_sub(1);
-    let t = (u - 0.5).clamp(0.0, last as f64);
-    let t = if t.is_nan() { 0.0 } else { t };
-    let i = (t as usize).min(last);
-    (i, (i + 1).min(last), (t - i as f64) as f32)
 }
 
 #[cfg(test)]
