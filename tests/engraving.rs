@@ -4,8 +4,8 @@
 //! the width that gives the grey. On a ramp of lightness across the picture the lines follow
 //! the isophotes (vertical again), keep their spacing and grow wider towards the dark side,
 //! and a fine grain over the ramp does not bend them. A black disc is engraved solid, and so is
-//! a dark tone whose lines fan out, or swirl at a fine spacing. Light stripes half a spacing wide show wherever they fall
-//! between the lines.
+//! a dark tone whose lines fan out, or swirl at a fine spacing, up to the picture's border.
+//! Light stripes half a spacing wide show wherever they fall between the lines.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
@@ -18,16 +18,18 @@ const H: u32 = 180;
 const SPACING: f64 = 0.02;
 
 fn engrave(photo: RgbImage) -> RgbImage {
-    engrave_at(photo, SPACING)
+    engrave_at(photo, SPACING, 90.0)
 }
 
-fn engrave_at(photo: RgbImage, spacing: f64) -> RgbImage {
+/// The engraving of `photo` at `spacing` (a share of the diagonal), its lines at `angle`
+/// (degrees) where the picture is flat.
+fn engrave_at(photo: RgbImage, spacing: f64, angle: f64) -> RgbImage {
     let mut preset = anisopaint::style::load("engraving").unwrap();
     anisopaint::style::apply_sets(
         &mut preset,
         &[
             format!("look.line_spacing={spacing}"),
-            "look.flat_angle=90".into(),
+            format!("look.flat_angle={angle}"),
             "look.outlines=0".into(),
         ],
     )
@@ -338,13 +340,7 @@ fn lines_swirling_over_dark_tones_leave_no_paper_between_them() {
     let mut paper = 0;
     let mut pixels = 0;
     for base in [45.0, 55.0, 60.0] {
-        let photo = RgbImage::from_fn(W, H, |x, y| {
-            let (x, y) = (f64::from(x), f64::from(y));
-            let wave = (x / 23.0 + 0.7 * (y / 31.0).sin()).sin()
-                * (y / 19.0 + 0.5 * (x / 29.0).cos()).cos();
-            image::Rgb([(base + 6.0 * wave).round() as u8; 3])
-        });
-        let img = engrave_at(photo, 0.007);
+        let img = engrave_at(dark_waves(base), 0.007, 90.0);
         for (x, y) in (6..H - 6).flat_map(|y| (6..W - 6).map(move |x| (x, y))) {
             pixels += 1;
             paper += usize::from(ink(&img, x, y) < 0.1);
@@ -354,5 +350,39 @@ fn lines_swirling_over_dark_tones_leave_no_paper_between_them() {
     assert!(
         per_million < 300.0,
         "{paper} pixels of paper ({per_million:.0} per million) over dark tones"
+    );
+}
+
+/// The dark picture with faint waves of `lines_swirling_over_dark_tones_leave_no_paper_between_them`.
+fn dark_waves(base: f64) -> RgbImage {
+    RgbImage::from_fn(W, H, |x, y| {
+        let (x, y) = (f64::from(x), f64::from(y));
+        let wave =
+            (x / 23.0 + 0.7 * (y / 31.0).sin()).sin() * (y / 19.0 + 0.5 * (x / 29.0).cos()).cos();
+        image::Rgb([(base + 6.0 * wave).round() as u8; 3])
+    })
+}
+
+#[test]
+fn dark_tones_are_inked_up_to_the_pictures_border() {
+    // Lines that meet the border at a slant end there, and the corner between one line's end
+    // and the next line is paper on no line's normal: dots of paper all along the border of a
+    // dark area. Lines that run on a spacing past the border are the neighbours the lines
+    // beside them find there. Measured, border pixels under a quarter of ink over three flat
+    // angles: 3 of 2 520 now, 57 before (17 to 20 at each angle).
+    let (mut paper, mut pixels) = (0, 0);
+    for angle in [20.0, 90.0, 160.0] {
+        let img = engrave_at(dark_waves(50.0), 0.007, angle);
+        let border = (0..W)
+            .flat_map(|x| [(x, 0), (x, H - 1)])
+            .chain((0..H).flat_map(|y| [(0, y), (W - 1, y)]));
+        for (x, y) in border {
+            pixels += 1;
+            paper += usize::from(ink(&img, x, y) < 0.25);
+        }
+    }
+    assert!(
+        paper * 200 < pixels,
+        "{paper} of {pixels} border pixels are paper"
     );
 }

@@ -74,6 +74,12 @@ const COARSE_WEIGHT: f32 = 2.0;
 /// A step may turn the line by at most 40° (its cosine): beyond, the field has a singularity
 /// there and the line stops.
 const MAX_TURN_COS: f64 = 0.766;
+/// A line runs on this many steps (one spacing) past the picture's border, where the lines
+/// beside it find it as their neighbour. Lines that ended at the border left, where they meet
+/// it at a slant, the corner between one line's end and the next line as paper on no line's
+/// normal: dots of paper along the border of dark areas (on 22 photos, `tone.py`'s blurred
+/// PSNR 34.38 → 34.60 dB, SSIM and edge recall within 0.0005).
+const OUTSIDE_STEPS: usize = 4;
 /// The gaps to the neighbouring lines are looked for up to this share of `d_sep` away; no line
 /// there counts as a gap of `d_sep` (a border, a break). A gap narrower than twice a seed's
 /// clearance can take no new line, so it is the paper of the two lines beside it, however
@@ -271,6 +277,7 @@ impl Tracer<'_> {
         let max_steps = (4.0 * (self.domain.x + self.domain.y) / h) as i32 + 8;
         let (mut p, mut dir) = (start, dir);
         let mut out = Vec::new();
+        let mut outside = 0;
         for k in 1..max_steps {
             let a = aligned(self.directions.at(p), dir);
             let b = aligned(self.directions.at(p + a * (0.5 * h)), a);
@@ -279,7 +286,10 @@ impl Tracer<'_> {
             }
             let q = p + b * h;
             if !self.inside(q) {
-                break;
+                outside += 1;
+                if outside > OUTSIDE_STEPS {
+                    break;
+                }
             }
             let step = ((self.lightness)(q) - (self.lightness)(p)).abs() / STEP_RATIO as f32;
             if step > self.layout.edge_break {
