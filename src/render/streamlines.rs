@@ -2,12 +2,15 @@
 //! Streamlines of Arbitrary Density*, 1997), the lines of the engraving look
 //! ([`super::engrave`]). A line runs along the major eigenvector of the metric (paper section 3:
 //! along the photo's edges, the minor direction of its structure tensor) and is traced both ways
-//! from a seed with midpoint (RK2) steps until it leaves the domain, comes closer than `d_test`
+//! from a seed with midpoint (RK2) steps until it is a spacing past the domain's border (so
+//! the lines beside it find a neighbour right up to the border), comes closer than `d_test`
 //! to a line already laid (or to itself), turns too sharply (a singularity of the field), or
 //! crosses a strong edge of the tone. New seeds go at `d_sep` on either side of every line
 //! laid, line after line, so the lines fill the picture as neighbours of each other; what that
 //! leaves (areas cut off by edges) is seeded from the samples' positions (the paper's
-//! particles), then from a grid.
+//! particles), then from a grid, and last one seed clearance from every line, which fills the
+//! gaps too narrow for a seed at `d_sep` from either side yet too wide to be the two lines'
+//! paper.
 //!
 //! Where the metric is round it says no direction; there a constant direction takes over
 //! smoothly (`flat_angle`, as an engraver shades a flat area with one set of parallel lines), so
