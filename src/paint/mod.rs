@@ -235,17 +235,18 @@ fn draw_reading(
                 &recipe.outline,
             );
             if let Some(svg) = &mut svg {
-                add_svg_outlines(svg, loaded, photo, size, &recipe.outline);
+                add_svg_outlines(svg, (loaded, &lines), photo, size, &recipe.outline);
             }
         }
         Ok(Painting { image, svg, labels })
     })
 }
 
-/// Adds the outlines' vector form over the look in `svg` (before its closing tag).
+/// Adds the outlines' vector form over the look in `svg` (before its closing tag): `lines`,
+/// their line map on `loaded`'s tensor grid.
 fn add_svg_outlines(
     svg: &mut String,
-    loaded: &LoadedField,
+    (loaded, lines): (&LoadedField, &[f32]),
     photo: &image::DynamicImage,
     size: RenderSize,
     params: &OutlineParams,
@@ -254,7 +255,7 @@ fn add_svg_outlines(
         return;
     }
     let (w, h) = (size.width, size.height);
-    let mask = outline_mask(photo, &loaded.raw, loaded.metric.domain(), (w, h), params);
+    let mask = outline_mask((&loaded.raw, lines), loaded.metric.domain(), (w, h), params);
     // One shape set in the ink, or every piece of the lines in the photo's mean colour under it.
     let (labels, inks) = match params.ink {
         OutlineInk::Colour(ink) => (mask.iter().map(|&m| m - 1).collect(), vec![ink]),

@@ -283,11 +283,11 @@ pub fn draw_outlines(
 }
 
 /// Where the outlines of [`draw_outlines`] ink at least half a `width × height` picture's
-/// pixel: 1 there, 0 elsewhere (row-major), for their vector form.
+/// pixel: 1 there, 0 elsewhere (row-major), for their vector form; `lines`, their
+/// [`line_map`] on `tensor`'s grid.
 #[must_use]
 pub fn outline_mask(
-    photo: &DynamicImage,
-    tensor: &TensorField,
+    (tensor, lines): (&TensorField, &[f32]),
     domain: glam::DVec2,
     (w, h): (usize, usize),
     params: &OutlineParams,
@@ -295,13 +295,12 @@ pub fn outline_mask(
     if params.strength <= 0.0 {
         return vec![0; w * h];
     }
-    let lines = line_map(photo, tensor, params);
     let map = PictureGrid::new(tensor, domain, (w, h));
     let mut mask = vec![0; w * h];
     mask.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
         let across = map.row(y);
         for (x, m) in row.iter_mut().enumerate() {
-            *m = i32::from(map.value(&lines, &across, x) >= 0.5);
+            *m = i32::from(map.value(lines, &across, x) >= 0.5);
         }
     });
     mask
