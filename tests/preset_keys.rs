@@ -10,7 +10,7 @@ use anisopaint::progress::Silent;
 use anisopaint::style;
 
 /// Every numeric key, with whether it takes an integer.
-const KEYS: [(&str, bool); 39] = [
+const KEYS: [(&str, bool); 40] = [
     ("metric.min_size", false),
     ("metric.max_size", false),
     ("metric.max_anisotropy", false),
@@ -46,6 +46,7 @@ const KEYS: [(&str, bool); 39] = [
     ("look.refine", false),
     ("look.outlines", false),
     ("look.outline_scale", false),
+    ("look.highlights", false),
     // Enumerated keys take numbers too when a user gets them wrong.
     ("look.kind", false),
     ("look.cells", false),

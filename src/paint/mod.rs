@@ -19,6 +19,7 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
+use crate::render::highlights::highlight_map;
 use crate::render::outline::{draw_outlines, line_map, outline_mask, OutlineParams};
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::outline_share::OutlineShare;
@@ -214,10 +215,20 @@ fn draw_reading(
             _ => Vec::new(),
         };
         // (Outlines in the photo's own colour darken little: the look keeps its tone.)
-        let share = (!lines.is_empty()
+        let dark = !lines.is_empty()
             && recipe.look.inks_its_tone()
-            && recipe.outline.ink != OutlineInk::Pixel)
-            .then(|| OutlineShare::new(&lines, &loaded.raw, recipe.outline.strength));
+            && recipe.outline.ink != OutlineInk::Pixel;
+        // Paper along the photo's thin light lines, for the looks that lay one ink over paper;
+        // also left out of their tone, with or without outlines.
+        let highlights = highlights_of(loaded, recipe);
+        let share = (dark || highlights.is_some()).then(|| {
+            let ink = if dark { lines.as_slice() } else { &[] };
+            let share = OutlineShare::new(ink, &loaded.raw, recipe.outline.strength);
+            match &highlights {
+                Some((paper, map)) => share.with_highlights(map, paper.strength),
+                None => share,
+            }
+        });
         let (mut image, mut svg) = crate::render::draw(
             &recipe.look,
             sites.cells(),
@@ -237,6 +248,18 @@ fn draw_reading(
             if let Some(svg) = &mut svg {
                 add_svg_outlines(svg, (loaded, &lines), photo, size, &recipe.outline);
             }
+            if let Some((paper, map)) = &highlights {
+                draw_outlines(
+                    &mut image,
+                    photo,
+                    (&loaded.raw, map),
+                    loaded.metric.domain(),
+                    paper,
+                );
+                if let Some(svg) = &mut svg {
+                    add_svg_outlines(svg, (loaded, map), photo, size, paper);
+                }
+            }
         }
         Ok(Painting { image, svg, labels })
     })
@@ -244,6 +267,22 @@ fn draw_reading(
 
 /// Adds the outlines' vector form over the look in `svg` (before its closing tag): `lines`,
 /// their line map on `loaded`'s tensor grid.
+/// The highlights `recipe` asks for: the outline parameters that lay them (the look's paper
+/// as ink, at the highlights' strength) and their [`highlight_map`]; `None` for a look without
+/// one paper, or without a photo.
+fn highlights_of(loaded: &LoadedField, recipe: &Recipe) -> Option<(OutlineParams, Vec<f32>)> {
+    let (photo, paper) = (loaded.photo.as_ref()?, recipe.look.paper()?);
+    if recipe.outline.highlights <= 0.0 {
+        return None;
+    }
+    let params = OutlineParams {
+        strength: recipe.outline.highlights,
+        ink: OutlineInk::Colour(paper),
+        ..recipe.outline
+    };
+    Some((params, highlight_map(photo, &loaded.raw, &recipe.outline)))
+}
+
 fn add_svg_outlines(
     svg: &mut String,
     (loaded, lines): (&LoadedField, &[f32]),

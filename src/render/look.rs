@@ -90,6 +90,17 @@ impl Look {
         }
     }
 
+    /// The paper of a look that lays one ink over paper ([`Self::inks_its_tone`]), which
+    /// highlights lay along the photo's light lines.
+    #[must_use]
+    pub fn paper(&self) -> Option<[u8; 3]> {
+        match self {
+            Look::Texture(p) if self.inks_its_tone() => Some(p.paper),
+            Look::Engraving(p) => Some(p.paper),
+            _ => None,
+        }
+    }
+
     /// Renders `scene`.
     #[must_use]
     pub fn render(&self, scene: &Scene) -> RgbImage {

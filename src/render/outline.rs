@@ -13,6 +13,7 @@
 //! 1536 px), so lines keep their width relative to the picture at any photo size; the line
 //! map is then read bilinearly at every output pixel. Lightness and responses are `f32`.
 
+use super::node_grid::{lightness_grid, major_axis, per_node};
 use super::outline_ink::{OutlineInk, PhotoInk};
 use crate::field::blur::round_to_byte;
 use crate::field::TensorField;
@@ -28,6 +29,10 @@ pub struct OutlineParams {
     pub scale: f32,
     /// What the lines are drawn in: one ink, or the photo's colour under them.
     pub ink: OutlineInk,
+    /// Paper laid along the photo's thin light lines
+    /// ([`highlight_map`](super::highlights::highlight_map)), 0 (none) to 1, by
+    /// the looks that lay one ink over paper.
+    pub highlights: f32,
 }
 
 impl Default for OutlineParams {
@@ -36,6 +41,7 @@ impl Default for OutlineParams {
             strength: 0.0,
             scale: 1.0,
             ink: OutlineInk::Colour([24, 20, 18]),
+            highlights: 0.0,
         }
     }
 }
@@ -43,13 +49,13 @@ impl Default for OutlineParams {
 /// σ_s / σ_c of the difference of Gaussians (Kang et al. after Marr–Hildreth).
 const SURROUND: f32 = 1.6;
 /// Weight ρ of the surround: just under 1, so flat areas give a small positive response.
-const RHO: f32 = 0.99;
+pub(super) const RHO: f32 = 0.99;
 /// σ_m / σ_c of the averaging along the edge.
 const ALONG: f32 = 3.0;
 /// Sharpness φ of the soft threshold `−tanh(φ·H)`, for lightness in [0, 1].
-const SHARPNESS: f32 = 30.0;
+pub(super) const SHARPNESS: f32 = 30.0;
 /// Responses weaker than this (lightness units) draw nothing: the grain of fur or grass.
-const FLOOR: f32 = 0.006;
+pub(super) const FLOOR: f32 = 0.006;
 
 /// The line map on `tensor`'s grid: ink in [0, 1] per node, 1 on the dark side of strong
 /// edges, 0 elsewhere; drawn in the photo's own colour ([`OutlineInk::Pixel`]), on the light
@@ -61,29 +67,7 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
     // The gradient direction at every node (the structure tensor's major eigenvector).
     let normals = per_node(cols, rows, |c, r| major_axis(&tensor.node(c, r)));
     let sigma_c = params.scale.max(0.1);
-    let across = dog_kernel(sigma_c);
-    let reach = (across.len() / 2) as f32;
-    // Step 1: the difference of Gaussians across the edge.
-    let mut dog = per_node(cols, rows, |c, r| {
-        let (x, y) = (c as f32, r as f32);
-        let [nx, ny] = normals[r * cols + c];
-        let tap = |i: usize| {
-            let t = i as f32 - reach;
-            (x + t * nx, y + t * ny)
-        };
-        // Rounded products and sums are monotone in t, so when both ends of the
-        // segment lie on the grid every tap does, and the clamps can be skipped.
-        let inside = |(x, y): (f32, f32)| {
-            (0.0..=(cols - 1) as f32).contains(&x) && (0.0..=(rows - 1) as f32).contains(&y)
-        };
-        if inside(tap(0)) && inside(tap(across.len() - 1)) {
-            weighted_taps(&across, tap, |x, y| {
-                bilinear_inside(&light, cols, rows, x, y)
-            })
-        } else {
-            weighted_taps(&across, tap, |x, y| bilinear(&light, cols, rows, x, y))
-        }
-    });
+    let mut dog = across_edges(&light, &normals, (cols, rows), sigma_c);
     // In the photo's own colour, the light side too: a thin light line (a whisker, a wire
     // against a dark wall, a highlight on hair) that the broad strokes paint over comes back.
     // Its response is the difference of Gaussians above what a flat area of that lightness
@@ -98,6 +82,38 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
     }
     // Step 2: averaged along the flow, both ways from every node.
     along_flow(&dog, &normals, cols, rows, sigma_c, true)
+}
+
+/// Step 1 of the lines: the difference of Gaussians of `light` across the edge at every node
+/// (along `normals`), σ_c = `sigma_c` nodes.
+pub(super) fn across_edges(
+    light: &[f32],
+    normals: &[[f32; 2]],
+    (cols, rows): (usize, usize),
+    sigma_c: f32,
+) -> Vec<f32> {
+    let across = dog_kernel(sigma_c);
+    let reach = (across.len() / 2) as f32;
+    per_node(cols, rows, |c, r| {
+        let (x, y) = (c as f32, r as f32);
+        let [nx, ny] = normals[r * cols + c];
+        let tap = |i: usize| {
+            let t = i as f32 - reach;
+            (x + t * nx, y + t * ny)
+        };
+        // Rounded products and sums are monotone in t, so when both ends of the
+        // segment lie on the grid every tap does, and the clamps can be skipped.
+        let inside = |(x, y): (f32, f32)| {
+            (0.0..=(cols - 1) as f32).contains(&x) && (0.0..=(rows - 1) as f32).contains(&y)
+        };
+        if inside(tap(0)) && inside(tap(across.len() - 1)) {
+            weighted_taps(&across, tap, |x, y| {
+                bilinear_inside(light, cols, rows, x, y)
+            })
+        } else {
+            weighted_taps(&across, tap, |x, y| bilinear(light, cols, rows, x, y))
+        }
+    })
 }
 
 /// `Σ w_i · read(tap(i))` over the kernel `weights`: one loop for both ways of reading the
@@ -380,84 +396,9 @@ fn blend(values: &[f32], cols: usize, (i, i1, tx): AxisWeights, (j, j1, ty): Axi
     top + (bottom - top) * ty
 }
 
-/// The unit major eigenvector of `t` with a non-negative x (the `cos`, `sin` of
-/// [`crate::field::Tensor::eigen`]'s angle in (−π/2, π/2]), from half-angle formulas instead
-/// of `atan2`, `cos` and `sin`: the cosine and sine of twice the angle are `h/r` and `b/r`
-/// (`h` the half-difference of the diagonal, `b` the off-diagonal, `r = √(h² + b²)`), and each
-/// half is taken on the side where it does not cancel. `(1, 0)` for an isotropic tensor, as
-/// `eigen`.
-fn major_axis(t: &crate::field::Tensor) -> [f32; 2] {
-    let (h, b) = (0.5 * (t.xx - t.yy), t.xy);
-    // Scaled by the larger of the two, so that no square underflows (the angle only depends
-    // on their ratio).
-    let scale = h.abs().max(b.abs());
-    if !(scale > 0.0 && scale.is_finite()) {
-        return [1.0, 0.0];
-    }
-    let (h, b) = (h / scale, b / scale);
-    let r = (h * h + b * b).sqrt();
-    let (cos, sin) = if h >= 0.0 {
-        let cos = ((r + h) / (2.0 * r)).sqrt();
-        (cos, b / (2.0 * r * cos))
-    } else {
-        let sin = ((r - h) / (2.0 * r)).sqrt();
-        // The sign of b, as atan2's ±π for b = ±0 (the angle ±π/2).
-        (b.abs() / (2.0 * r * sin), sin.copysign(b))
-    };
-    [cos as f32, sin as f32]
-}
-
-/// The photo's lightness (sRGB luma in [0, 1]) averaged over every node's block of pixels.
-fn lightness_grid(photo: &DynamicImage, tensor: &TensorField) -> Vec<f32> {
-    let rgb = super::colour::rgb8(photo);
-    let (cols, rows) = (tensor.cols(), tensor.rows());
-    let s = tensor.spacing();
-    let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-    per_node(cols, rows, |c, r| {
-        let (x0, y0) = ((c as f64 * s) as usize, (r as f64 * s) as usize);
-        let (x1, y1) = (
-            (((c + 1) as f64 * s) as usize).clamp(x0 + 1, w.max(x0 + 1)),
-            (((r + 1) as f64 * s) as usize).clamp(y0 + 1, h.max(y0 + 1)),
-        );
-        let (mut sum, mut n) = (0.0f32, 0.0f32);
-        for y in y0..y1.min(h) {
-            for x in x0..x1.min(w) {
-                let i = 3 * (y * w + x);
-                let p = &rgb.as_raw()[i..i + 3];
-                sum += 0.299 * f32::from(p[0]) + 0.587 * f32::from(p[1]) + 0.114 * f32::from(p[2]);
-                n += 1.0;
-            }
-        }
-        if n > 0.0 {
-            sum / n / 255.0
-        } else {
-            1.0
-        }
-    })
-}
-
-/// `value(c, r)` at every node of a `cols × rows` grid, row-major, rows in parallel: a loop over
-/// flat indices would divide twice per node to find its column and row, which cost as much as
-/// the work of a light loop (the normals: 14 ms of 1 M nodes on two threads).
-fn per_node<T: Copy + Default + Send>(
-    cols: usize,
-    rows: usize,
-    value: impl Fn(usize, usize) -> T + Sync,
-) -> Vec<T> {
-    let mut out = vec![T::default(); cols * rows];
-    out.par_chunks_mut(cols.max(1))
-        .enumerate()
-        .for_each(|(r, row)| {
-            for (c, v) in row.iter_mut().enumerate() {
-                *v = value(c, r);
-            }
-        });
-    out
-}
-
 /// The difference of Gaussians `G_σc − ρ·G_σs` sampled at whole steps over ±3σ_s, each
 /// Gaussian normalised to sum 1.
-fn dog_kernel(sigma_c: f32) -> Vec<f32> {
+pub(super) fn dog_kernel(sigma_c: f32) -> Vec<f32> {
     let sigma_s = SURROUND * sigma_c;
     let reach = (3.0 * sigma_s).ceil() as i32;
     let gauss = |sigma: f32| -> Vec<f32> {

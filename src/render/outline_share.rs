@@ -6,6 +6,9 @@
 //! itself: with outlines inking a share `e` of an area over the look's `d'`, the area reads
 //! `e + (1 − e)·d'`, which is the photo's darkness `d` at `d' = (d − e) / (1 − e)`.
 //!
+//! Paper laid along the photo's light lines (highlights) takes a share `w` of the area the other
+//! way: the look draws `d' = (d − e) / (1 − e − w)` there.
+//!
 //! The share is the outlines' line map (ink 0 to 1 per node of the structure tensor's grid,
 //! times their strength) blurred over [`SHARE_BLUR`] nodes: the neighbourhood over which the
 //! eye, or an evaluator's blur, averages the lines with the hatching beside them. `f32`.
@@ -21,6 +24,8 @@ pub struct OutlineShare {
     rows: usize,
     /// Domain units per node.
     spacing: f64,
+    /// The paper the highlights lay around every node, blurred likewise (empty: none).
+    paper: Vec<f32>,
 }
 
 /// σ of the blur of the line map, in nodes of the structure tensor's grid (analysis pixels),
@@ -35,10 +40,19 @@ const MOST: f32 = 0.9;
 
 impl OutlineShare {
     /// The share of `lines` (a line map on `tensor`'s grid, see
-    /// [`line_map`](super::outline::line_map)) drawn at `strength`.
+    /// [`line_map`](super::outline::line_map), or empty: no outlines) drawn at `strength`.
     #[must_use]
     pub fn new(lines: &[f32], tensor: &TensorField, strength: f32) -> Self {
         let (cols, rows) = (tensor.cols(), tensor.rows());
+        if lines.is_empty() {
+            return OutlineShare {
+                values: vec![0.0; cols * rows],
+                cols,
+                rows,
+                spacing: tensor.spacing(),
+                paper: Vec::new(),
+            };
+        }
         let mut values: Vec<f32> = lines
             .iter()
             .map(|&v| v * strength.clamp(0.0, 1.0))
@@ -49,7 +63,23 @@ impl OutlineShare {
             cols,
             rows,
             spacing: tensor.spacing(),
+            paper: Vec::new(),
         }
+    }
+
+    /// The same share with the highlights' paper: `highlights`, their
+    /// [`highlight_map`](super::highlights::highlight_map) on the same grid, laid at `strength`.
+    #[must_use]
+    pub fn with_highlights(mut self, highlights: &[f32], strength: f32) -> Self {
+        let mut paper: Vec<f32> = highlights
+            .iter()
+            .map(|&v| v * strength.clamp(0.0, 1.0))
+            .collect();
+        crate::field::blur::gaussian_blur_parallel_mut(
+            &mut paper, self.cols, self.rows, 1, SHARE_BLUR,
+        );
+        self.paper = paper;
+        self
     }
 
     /// The share at domain point `p` (bilinear between node centres, clamped at the borders,
@@ -65,10 +95,17 @@ impl OutlineShare {
     #[must_use]
     pub fn leave_out(&self, darkness: f32, p: DVec2) -> f32 {
         let e = self.at(p).clamp(0.0, MOST);
-        if e <= 0.0 {
+        let w = if self.paper.is_empty() {
+            0.0
+        } else {
+            let node = |u: f64| (u / self.spacing - 0.5) as f32;
+            super::outline::bilinear(&self.paper, self.cols, self.rows, node(p.x), node(p.y))
+                .clamp(0.0, MOST - e)
+        };
+        if e <= 0.0 && w <= 0.0 {
             return darkness;
         }
-        ((darkness - e) / (1.0 - e)).max(0.0)
+        ((darkness - e) / (1.0 - e - w)).clamp(0.0, 1.0)
     }
 }
 
@@ -99,5 +136,9 @@ mod tests {
         // No lines, no change.
         let none = OutlineShare::new(&[0.0; 48], &tensor, 1.0);
         assert_eq!(none.leave_out(0.37, p), 0.37);
+        // Highlights leaving a fifth bare: e + (1 − e − w)·d' = d.
+        let both = OutlineShare::new(&[0.5; 48], &tensor, 1.0).with_highlights(&[0.2; 48], 1.0);
+        let left = both.leave_out(0.8, p);
+        assert!((0.5 + 0.3 * left - 0.8).abs() < 1e-6, "{left}");
     }
 }

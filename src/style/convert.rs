@@ -173,7 +173,8 @@ impl Preset {
 
     /// The outlines over the look: `look.outlines` (ink, 0 to 1, default none),
     /// `look.outline_scale` (line width, 0.25 to 4) and `look.outline_ink` (`#rrggbb`, or
-    /// `pixel` for the photo's colour under the lines).
+    /// `pixel` for the photo's colour under the lines); `look.highlights` (paper along thin
+    /// light lines, 0 to 1, default none).
     pub fn outline(&self) -> Result<OutlineParams> {
         let l = &self.file.look;
         let d = OutlineParams::default();
@@ -191,6 +192,7 @@ impl Preset {
             strength: ranged("look.outlines", l.outlines, d.strength, UNIT)?,
             scale: ranged("look.outline_scale", l.outline_scale, d.scale, (0.25, 4.0))?,
             ink,
+            highlights: ranged("look.highlights", l.highlights, d.highlights, UNIT)?,
         })
     }
 

@@ -45,6 +45,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
         supersample: Some(preset.supersample()?),
         outlines: Some(outline.strength),
         outline_scale: Some(outline.scale),
+        highlights: Some(outline.highlights),
         outline_ink: Some(match outline.ink {
             OutlineInk::Colour(c) => hex(c),
             OutlineInk::Pixel => OutlineInk::PIXEL.into(),

@@ -146,6 +146,9 @@ pub struct LookSection {
     /// What the outlines are drawn in: `#rrggbb`, or `pixel` for the photo's colour under
     /// every pixel of the lines.
     pub outline_ink: Option<String>,
+    /// Paper laid along the photo's thin light lines (whiskers, masts, stars), 0 (none) to 1;
+    /// the one-ink looks (hatching, cross-hatching, engraving).
+    pub highlights: Option<f32>,
 }
 
 /// A preset resolved down its `extends` chain, with its name.
@@ -339,6 +342,7 @@ pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
             outlines: o.outlines.or(b.outlines),
             outline_scale: o.outline_scale.or(b.outline_scale),
             outline_ink: o.outline_ink.or(b.outline_ink),
+            highlights: o.highlights.or(b.highlights),
         },
     }
 }
