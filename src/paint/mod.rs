@@ -19,8 +19,8 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
-use crate::render::highlights::highlight_map;
-use crate::render::outline::{draw_outlines, line_map, outline_mask, OutlineParams};
+use crate::render::highlights::highlights_of;
+use crate::render::outline::{draw_outlines, lines_of, outline_mask, EdgeResponses, OutlineParams};
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::outline_share::OutlineShare;
 use crate::render::{label_map, Look, Raster, RenderSize};
@@ -206,21 +206,26 @@ fn draw_reading(
             };
             label_map(&sites.cells(), &raster)
         });
-        // The outlines' line map, found once: the ink looks leave the share the outlines will
-        // ink out of their own tone, then the lines are laid over the look.
-        let lines = match &loaded.photo {
-            Some(photo) if recipe.outline.strength > 0.0 => {
-                line_map(photo, &loaded.raw, &recipe.outline)
+        // The outlines' line map and the highlights' map, found once from the same responses:
+        // the ink looks leave the share the outlines will ink (and the highlights leave bare)
+        // out of their own tone, then both are laid over the look.
+        let paper = highlight_params(recipe);
+        let responses = match &loaded.photo {
+            Some(photo) if recipe.outline.strength > 0.0 || paper.is_some() => {
+                Some(EdgeResponses::new(photo, &loaded.raw, &recipe.outline))
             }
+            _ => None,
+        };
+        let lines = match &responses {
+            Some(r) if recipe.outline.strength > 0.0 => lines_of(r, recipe.outline.ink),
             _ => Vec::new(),
         };
+        let highlights = paper.zip(responses.as_ref().map(highlights_of));
         // (Outlines in the photo's own colour darken little: the look keeps its tone.)
         let dark = !lines.is_empty()
             && recipe.look.inks_its_tone()
             && recipe.outline.ink != OutlineInk::Pixel;
-        // Paper along the photo's thin light lines, for the looks that lay one ink over paper;
-        // also left out of their tone, with or without outlines.
-        let highlights = highlights_of(loaded, recipe);
+        // The highlights' paper too, with or without outlines.
         let share = (dark || highlights.is_some()).then(|| {
             let ink = if dark { lines.as_slice() } else { &[] };
             let share = OutlineShare::new(ink, &loaded.raw, recipe.outline.strength);
@@ -265,24 +270,19 @@ fn draw_reading(
     })
 }
 
-/// Adds the outlines' vector form over the look in `svg` (before its closing tag): `lines`,
-/// their line map on `loaded`'s tensor grid.
-/// The highlights `recipe` asks for: the outline parameters that lay them (the look's paper
-/// as ink, at the highlights' strength) and their [`highlight_map`]; `None` for a look without
-/// one paper, or without a photo.
-fn highlights_of(loaded: &LoadedField, recipe: &Recipe) -> Option<(OutlineParams, Vec<f32>)> {
-    let (photo, paper) = (loaded.photo.as_ref()?, recipe.look.paper()?);
-    if recipe.outline.highlights <= 0.0 {
-        return None;
-    }
-    let params = OutlineParams {
+/// How `recipe` lays highlights: the outline parameters that draw them (the look's paper as
+/// ink, at the highlights' strength); `None` for a look without one paper, or none asked for.
+fn highlight_params(recipe: &Recipe) -> Option<OutlineParams> {
+    let paper = recipe.look.paper()?;
+    (recipe.outline.highlights > 0.0).then_some(OutlineParams {
         strength: recipe.outline.highlights,
         ink: OutlineInk::Colour(paper),
         ..recipe.outline
-    };
-    Some((params, highlight_map(photo, &loaded.raw, &recipe.outline)))
+    })
 }
 
+/// Adds the outlines' vector form over the look in `svg` (before its closing tag): `lines`,
+/// their line map on `loaded`'s tensor grid.
 fn add_svg_outlines(
     svg: &mut String,
     (loaded, lines): (&LoadedField, &[f32]),

@@ -7,8 +7,8 @@
 //! outlines, in the look's paper; the look leaves their paper out of its tone
 //! ([`super::outline_share`]). `f32`, on the structure tensor's grid.
 
-use super::node_grid::{lightness_grid, major_axis, per_node};
-use super::outline::{across_edges, bilinear, dog_kernel, OutlineParams, FLOOR, RHO, SHARPNESS};
+use super::node_grid::per_node;
+use super::outline::{bilinear, dog_kernel, EdgeResponses, OutlineParams, FLOOR, RHO, SHARPNESS};
 use crate::field::TensorField;
 use image::DynamicImage;
 
@@ -25,13 +25,23 @@ pub fn highlight_map(
     tensor: &TensorField,
     params: &OutlineParams,
 ) -> Vec<f32> {
-    let (cols, rows) = (tensor.cols(), tensor.rows());
-    let light = lightness_grid(photo, tensor);
-    let normals = per_node(cols, rows, |c, r| major_axis(&tensor.node(c, r)));
-    let sigma_c = params.scale.max(0.1);
-    let dog = across_edges(&light, &normals, (cols, rows), sigma_c);
+    highlights_of(&EdgeResponses::new(photo, tensor, params))
+}
+
+/// [`highlight_map`] from responses already found.
+#[must_use]
+pub fn highlights_of(responses: &EdgeResponses) -> Vec<f32> {
+    let EdgeResponses {
+        light,
+        normals,
+        dog,
+        cols,
+        rows,
+        sigma_c,
+    } = responses;
+    let (cols, rows, sigma_c) = (*cols, *rows, *sigma_c);
     let w = RIDGE_REACH * sigma_c;
-    let floor = FLOOR + grain_floor(&light, cols, rows, sigma_c);
+    let floor = FLOOR + grain_floor(light, cols, rows, sigma_c);
     per_node(cols, rows, |c, r| {
         let k = r * cols + c;
         let h = (1.0 - RHO) * light[k] - dog[k];
@@ -40,8 +50,8 @@ pub fn highlight_map(
         }
         let [nx, ny] = normals[k];
         let (x, y) = (c as f32, r as f32);
-        let a = light[k] - bilinear(&light, cols, rows, x + w * nx, y + w * ny);
-        let b = light[k] - bilinear(&light, cols, rows, x - w * nx, y - w * ny);
+        let a = light[k] - bilinear(light, cols, rows, x + w * nx, y + w * ny);
+        let b = light[k] - bilinear(light, cols, rows, x - w * nx, y - w * ny);
         let ridge = if a.max(b) > 0.0 {
             (a.min(b) / a.max(b)).clamp(0.0, 1.0)
         } else {

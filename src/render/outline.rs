@@ -57,17 +57,59 @@ pub(super) const SHARPNESS: f32 = 30.0;
 /// Responses weaker than this (lightness units) draw nothing: the grain of fur or grass.
 pub(super) const FLOOR: f32 = 0.006;
 
+/// What the outlines and the highlights ([`super::highlights`]) both read on the structure
+/// tensor's grid, found once: the photo's lightness, the edges' normals (the tensor's major
+/// eigenvectors) and step 1, the difference of Gaussians across the edges.
+pub struct EdgeResponses {
+    pub(super) light: Vec<f32>,
+    pub(super) normals: Vec<[f32; 2]>,
+    pub(super) dog: Vec<f32>,
+    pub(super) cols: usize,
+    pub(super) rows: usize,
+    /// σ_c in nodes.
+    pub(super) sigma_c: f32,
+}
+
+impl EdgeResponses {
+    /// The responses of `photo` on `tensor`'s grid at the lines' width `params.scale`.
+    #[must_use]
+    pub fn new(photo: &DynamicImage, tensor: &TensorField, params: &OutlineParams) -> Self {
+        let (cols, rows) = (tensor.cols(), tensor.rows());
+        let light = lightness_grid(photo, tensor);
+        let normals = per_node(cols, rows, |c, r| major_axis(&tensor.node(c, r)));
+        let sigma_c = params.scale.max(0.1);
+        let dog = across_edges(&light, &normals, (cols, rows), sigma_c);
+        EdgeResponses {
+            light,
+            normals,
+            dog,
+            cols,
+            rows,
+            sigma_c,
+        }
+    }
+}
+
 /// The line map on `tensor`'s grid: ink in [0, 1] per node, 1 on the dark side of strong
 /// edges, 0 elsewhere; drawn in the photo's own colour ([`OutlineInk::Pixel`]), on the light
 /// side of strong edges too.
 #[must_use]
 pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlineParams) -> Vec<f32> {
-    let (cols, rows) = (tensor.cols(), tensor.rows());
-    let light = lightness_grid(photo, tensor);
-    // The gradient direction at every node (the structure tensor's major eigenvector).
-    let normals = per_node(cols, rows, |c, r| major_axis(&tensor.node(c, r)));
-    let sigma_c = params.scale.max(0.1);
-    let mut dog = across_edges(&light, &normals, (cols, rows), sigma_c);
+    lines_of(&EdgeResponses::new(photo, tensor, params), params.ink)
+}
+
+/// [`line_map`] from responses already found, for lines in `ink`.
+#[must_use]
+pub fn lines_of(responses: &EdgeResponses, ink: OutlineInk) -> Vec<f32> {
+    let EdgeResponses {
+        light,
+        normals,
+        cols,
+        rows,
+        sigma_c,
+        ..
+    } = responses;
+    let (cols, rows, sigma_c) = (*cols, *rows, *sigma_c);
     // In the photo's own colour, the light side too: a thin light line (a whisker, a wire
     // against a dark wall, a highlight on hair) that the broad strokes paint over comes back.
     // Its response is the difference of Gaussians above what a flat area of that lightness
@@ -75,13 +117,17 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
     // the stronger of its two sides before the walk (along an edge the side does not change,
     // so this is about the stronger of two walks, at the cost of one: measured on strokes,
     // tone.py's means came out a little higher than with two walks).
-    if params.ink == OutlineInk::Pixel {
-        for (d, &l) in dog.iter_mut().zip(&light) {
+    let walked = if ink == OutlineInk::Pixel {
+        let mut dog = responses.dog.clone();
+        for (d, &l) in dog.iter_mut().zip(light) {
             *d = d.min((1.0 - RHO) * l - *d);
         }
-    }
+        std::borrow::Cow::Owned(dog)
+    } else {
+        std::borrow::Cow::Borrowed(&responses.dog)
+    };
     // Step 2: averaged along the flow, both ways from every node.
-    along_flow(&dog, &normals, cols, rows, sigma_c, true)
+    along_flow(&walked, normals, cols, rows, sigma_c, true)
 }
 
 /// Step 1 of the lines: the difference of Gaussians of `light` across the edge at every node
