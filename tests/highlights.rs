@@ -7,6 +7,8 @@ use anisopaint::render::highlights::highlight_map;
 use anisopaint::render::outline::OutlineParams;
 use image::{DynamicImage, RgbImage};
 
+mod common;
+
 const W: u32 = 240;
 const H: u32 = 160;
 /// Grey of the ground and of the line.
@@ -90,19 +92,12 @@ fn a_thin_light_line_is_found_and_a_step_edge_is_not() {
 
 /// `look` painted over the light line with `look.highlights` at `strength`.
 fn paint(look: &str, strength: &str) -> RgbImage {
-    let mut preset = anisopaint::style::load(look).unwrap();
-    anisopaint::style::apply_sets(&mut preset, &[format!("look.highlights={strength}")]).unwrap();
-    let recipe =
-        anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
-    let loaded = photo_field(light_line(), &recipe.field.metric);
-    anisopaint::paint::paint_loaded(
-        &loaded,
-        &recipe,
-        Default::default(),
-        &anisopaint::progress::Silent,
+    common::painted_with(
+        &light_line(),
+        look,
+        &[format!("look.highlights={strength}")],
+        1,
     )
-    .unwrap()
-    .image
 }
 
 /// Mean grey of the pixels whose centres lie within `(d0, d1)` of the line, away from the border.

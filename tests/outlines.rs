@@ -8,6 +8,8 @@ use anisopaint::input::photo_field;
 use anisopaint::render::outline::{draw_outlines, line_map, OutlineParams};
 use image::{DynamicImage, RgbImage};
 
+mod common;
+
 const SIDE: u32 = 200;
 const RADIUS: f64 = 60.0;
 
@@ -89,19 +91,12 @@ fn ink_looks_draw_outlines_over_their_hatching() {
     // it was.
     let photo = disc_of(120);
     let paint = |outlines: &str| {
-        let mut preset = anisopaint::style::load("pen-hatch").unwrap();
-        anisopaint::style::apply_sets(&mut preset, &[format!("look.outlines={outlines}")]).unwrap();
-        let recipe =
-            anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
-        let loaded = photo_field(photo.clone(), &recipe.field.metric);
-        anisopaint::paint::paint_loaded(
-            &loaded,
-            &recipe,
-            Default::default(),
-            &anisopaint::progress::Silent,
+        common::painted_with(
+            &photo,
+            "pen-hatch",
+            &[format!("look.outlines={outlines}")],
+            1,
         )
-        .unwrap()
-        .image
     };
     let (with, without) = (paint("1"), paint("0"));
     let ring_mean = |img: &RgbImage, r0: f64, r1: f64| {

@@ -31,15 +31,8 @@ pub fn highlight_map(
 /// [`highlight_map`] from responses already found.
 #[must_use]
 pub fn highlights_of(responses: &EdgeResponses) -> Vec<f32> {
-    let EdgeResponses {
-        light,
-        normals,
-        dog,
-        cols,
-        rows,
-        sigma_c,
-    } = responses;
-    let (cols, rows, sigma_c) = (*cols, *rows, *sigma_c);
+    let (light, normals, dog) = (&responses.light, &responses.normals, &responses.dog);
+    let (cols, rows, sigma_c) = (responses.cols, responses.rows, responses.sigma_c);
     let w = RIDGE_REACH * sigma_c;
     let floor = FLOOR + grain_floor(light, cols, rows, sigma_c);
     per_node(cols, rows, |c, r| {

@@ -101,15 +101,8 @@ pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlinePara
 /// [`line_map`] from responses already found, for lines in `ink`.
 #[must_use]
 pub fn lines_of(responses: &EdgeResponses, ink: OutlineInk) -> Vec<f32> {
-    let EdgeResponses {
-        light,
-        normals,
-        cols,
-        rows,
-        sigma_c,
-        ..
-    } = responses;
-    let (cols, rows, sigma_c) = (*cols, *rows, *sigma_c);
+    let (light, normals) = (&responses.light, &responses.normals);
+    let (cols, rows, sigma_c) = (responses.cols, responses.rows, responses.sigma_c);
     // In the photo's own colour, the light side too: a thin light line (a whisker, a wire
     // against a dark wall, a highlight on hair) that the broad strokes paint over comes back.
     // Its response is the difference of Gaussians above what a flat area of that lightness

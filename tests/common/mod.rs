@@ -1,4 +1,5 @@
-//! Helpers shared by the integration tests: hand-made broken and unusual image files.
+//! Helpers shared by the integration tests: hand-made broken and unusual image files, and a
+//! painting through the library with a preset's keys set.
 #![allow(dead_code)]
 
 /// How many distinct colours a picture file holds: 1 means nothing was drawn on it.
@@ -125,4 +126,26 @@ pub fn header_only_items(
             }
         })
         .collect()
+}
+
+/// `photo` painted in the built-in preset `style` with the keys `sets` (`key=value`) at `seed`.
+pub fn painted_with(
+    photo: &image::DynamicImage,
+    style: &str,
+    sets: &[String],
+    seed: u64,
+) -> image::RgbImage {
+    let mut preset = anisopaint::style::load(style).unwrap();
+    anisopaint::style::apply_sets(&mut preset, sets).unwrap();
+    let recipe =
+        anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(seed)).unwrap();
+    let loaded = anisopaint::input::photo_field(photo.clone(), &recipe.field.metric);
+    anisopaint::paint::paint_loaded(
+        &loaded,
+        &recipe,
+        Default::default(),
+        &anisopaint::progress::Silent,
+    )
+    .unwrap()
+    .image
 }
