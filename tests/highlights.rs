@@ -76,8 +76,10 @@ fn a_thin_light_line_is_found_and_a_step_edge_is_not() {
             far = far.max(v);
         }
     }
+    // Paper no lighter than the photo: at most the node's lightness (the line's centre nodes
+    // read 0.71, the line 0.84 over pixels it crosses in part).
     let mean = centre.iter().sum::<f32>() / centre.len() as f32;
-    assert!(mean > 0.8, "the line's centre reads {mean}");
+    assert!(mean > 0.6, "the line's centre reads {mean}");
     assert_eq!(far, 0.0, "paper away from the line");
     // The light side of a step edge is no light line; a flat picture has none.
     let (map, _) = map_of(&step());
@@ -120,10 +122,11 @@ fn the_ink_looks_lay_paper_along_thin_light_lines() {
     for look in ["pen-hatch", "crosshatch", "engraving"] {
         let (with, without) = (paint(look, "1"), paint(look, "0"));
         let (on_with, on_without) = (band_mean(&with, 0.0, 0.7), band_mean(&without, 0.0, 0.7));
-        // The line is light in the photo (215); the look's lines, spaced wider than it, half
-        // hide it without highlights (measured 150-169 without, 220-227 with).
+        // The look's lines, spaced wider than the line, half hide it without highlights
+        // (measured 151-169 over its centre); with them it reads 193-203, the paper laid no
+        // stronger than the line's lightness, so never as light as the line itself (215).
         assert!(
-            on_with > 200.0 && on_with > on_without + 40.0,
+            on_with > on_without + 25.0 && on_with < LINE,
             "{look}: the line reads {on_with} with highlights, {on_without} without"
         );
         // The ground keeps its tone (70) within a few levels either way.

@@ -18,7 +18,9 @@ use image::DynamicImage;
 /// [`RIDGE_REACH`]·σ_c: `min / max` of the two differences, 0 on the light side of a step
 /// edge, whose far side is as light. Then the outlines' soft threshold, node by node, above the
 /// photo's grain: a light speck of grain is a ridge too, and a grainy photo would be sown with
-/// paper ([`grain_floor`]).
+/// paper ([`grain_floor`]). At most the node's lightness: paper laid at `a` over the ink reads
+/// about `a`, so a highlight is no lighter than the photo under it (uncapped, a dim galaxy on a
+/// black sky came out a white speck: Hubble's deep field in pen-hatch 35.7 dB against 38.3).
 #[must_use]
 pub fn highlight_map(
     photo: &DynamicImage,
@@ -52,7 +54,7 @@ pub fn highlights_of(responses: &EdgeResponses) -> Vec<f32> {
         };
         let h = ridge * h;
         if h < -floor {
-            (-(SHARPNESS * (h + floor)).tanh()).min(1.0)
+            (-(SHARPNESS * (h + floor)).tanh()).min(light[k])
         } else {
             0.0
         }
