@@ -19,12 +19,13 @@ use glam::DVec2;
 /// The outlines' ink averaged around every node of the structure tensor's grid.
 #[derive(Clone, Debug)]
 pub struct OutlineShare {
+    /// The outlines' ink around every node (empty: no outlines).
     values: Vec<f32>,
     cols: usize,
     rows: usize,
     /// Domain units per node.
     spacing: f64,
-    /// The paper the highlights lay around every node, blurred likewise (empty: none).
+    /// The paper the highlights leave bare around every node, blurred likewise (empty: none).
     paper: Vec<f32>,
 }
 
@@ -44,22 +45,8 @@ impl OutlineShare {
     #[must_use]
     pub fn new(lines: &[f32], tensor: &TensorField, strength: f32) -> Self {
         let (cols, rows) = (tensor.cols(), tensor.rows());
-        if lines.is_empty() {
-            return OutlineShare {
-                values: vec![0.0; cols * rows],
-                cols,
-                rows,
-                spacing: tensor.spacing(),
-                paper: Vec::new(),
-            };
-        }
-        let mut values: Vec<f32> = lines
-            .iter()
-            .map(|&v| v * strength.clamp(0.0, 1.0))
-            .collect();
-        crate::field::blur::gaussian_blur_parallel_mut(&mut values, cols, rows, 1, SHARE_BLUR);
         OutlineShare {
-            values,
+            values: blurred(lines, (cols, rows), strength),
             cols,
             rows,
             spacing: tensor.spacing(),
@@ -71,14 +58,7 @@ impl OutlineShare {
     /// [`highlight_map`](super::highlights::highlight_map) on the same grid, laid at `strength`.
     #[must_use]
     pub fn with_highlights(mut self, highlights: &[f32], strength: f32) -> Self {
-        let mut paper: Vec<f32> = highlights
-            .iter()
-            .map(|&v| v * strength.clamp(0.0, 1.0))
-            .collect();
-        crate::field::blur::gaussian_blur_parallel_mut(
-            &mut paper, self.cols, self.rows, 1, SHARE_BLUR,
-        );
-        self.paper = paper;
+        self.paper = blurred(highlights, (self.cols, self.rows), strength);
         self
     }
 
@@ -86,27 +66,40 @@ impl OutlineShare {
     /// as the outlines read their line map).
     #[must_use]
     pub fn at(&self, p: DVec2) -> f32 {
+        self.read(&self.values, p)
+    }
+
+    /// `values` (the ink or the paper share) at `p`; 0 where there are none.
+    fn read(&self, values: &[f32], p: DVec2) -> f32 {
+        if values.is_empty() {
+            return 0.0;
+        }
         let node = |u: f64| (u / self.spacing - 0.5) as f32;
-        super::outline::bilinear(&self.values, self.cols, self.rows, node(p.x), node(p.y))
+        super::outline::bilinear(values, self.cols, self.rows, node(p.x), node(p.y))
     }
 
     /// The darkness (ink coverage, 0 to 1) a look draws at `p` for the photo's `darkness`
-    /// there, so that with the outlines over it the area reads `darkness`.
+    /// there, so that with the outlines over it (and the highlights' paper beside them) the
+    /// area reads `darkness`.
     #[must_use]
     pub fn leave_out(&self, darkness: f32, p: DVec2) -> f32 {
         let e = self.at(p).clamp(0.0, MOST);
-        let w = if self.paper.is_empty() {
-            0.0
-        } else {
-            let node = |u: f64| (u / self.spacing - 0.5) as f32;
-            super::outline::bilinear(&self.paper, self.cols, self.rows, node(p.x), node(p.y))
-                .clamp(0.0, MOST - e)
-        };
+        let w = self.read(&self.paper, p).clamp(0.0, MOST - e);
         if e <= 0.0 && w <= 0.0 {
             return darkness;
         }
         ((darkness - e) / (1.0 - e - w)).clamp(0.0, 1.0)
     }
+}
+
+/// `map` (per node of a `cols × rows` grid, or empty) at `strength`, blurred over
+/// [`SHARE_BLUR`] nodes; empty stays empty.
+fn blurred(map: &[f32], (cols, rows): (usize, usize), strength: f32) -> Vec<f32> {
+    let mut values: Vec<f32> = map.iter().map(|&v| v * strength.clamp(0.0, 1.0)).collect();
+    if !values.is_empty() {
+        crate::field::blur::gaussian_blur_parallel_mut(&mut values, cols, rows, 1, SHARE_BLUR);
+    }
+    values
 }
 
 #[cfg(test)]
