@@ -20,20 +20,28 @@ fn disc() -> DynamicImage {
 
 /// A disc of grey `level` on white, anti-aliased over 4×4 points per pixel.
 fn disc_of(level: u8) -> DynamicImage {
+    disc_in([level; 3], [255; 3])
+}
+
+/// A disc of colour `inside` on `outside`, anti-aliased over 4×4 points per pixel (in sRGB
+/// values, as a photo's edge is).
+fn disc_in(inside: [u8; 3], outside: [u8; 3]) -> DynamicImage {
     let c = f64::from(SIDE) / 2.0;
     DynamicImage::ImageRgb8(RgbImage::from_fn(SIDE, SIDE, |x, y| {
-        let mut inside = 0.0f64;
+        let mut share = 0.0f64;
         for j in 0..4 {
             for i in 0..4 {
                 let dx = f64::from(x) + (f64::from(i) + 0.5) / 4.0 - c;
                 let dy = f64::from(y) + (f64::from(j) + 0.5) / 4.0 - c;
                 if dx.hypot(dy) < RADIUS {
-                    inside += 1.0 / 16.0;
+                    share += 1.0 / 16.0;
                 }
             }
         }
-        let v = (255.0 - (255.0 - f64::from(level)) * inside).round() as u8;
-        image::Rgb([v, v, v])
+        image::Rgb(std::array::from_fn(|k| {
+            let (a, b) = (f64::from(inside[k]), f64::from(outside[k]));
+            (b + (a - b) * share).round() as u8
+        }))
     }))
 }
 
@@ -53,7 +61,28 @@ fn lines_of(photo: DynamicImage) -> (Vec<f32>, usize) {
 
 #[test]
 fn a_black_disc_gets_a_closed_outline_and_nothing_else() {
-    let (lines, cols) = lines_of(disc());
+    closed_outline_and_nothing_else(disc(), RADIUS - 4.0);
+}
+
+#[test]
+fn a_disc_as_light_as_its_ground_gets_its_outline_from_colour() {
+    // Red on green of the same luma (101.8 and 101.7 of 255): the lightness has no edge, the
+    // eye sees one at once. The chroma draws it, on one side of the rim all round: outside,
+    // on the green, since red is the yellower (Decolorize's yellow reads lighter than blue).
+    let (red, green) = ([200, 60, 60], [40, 145, 40]);
+    let luma =
+        |c: [u8; 3]| 0.299 * f64::from(c[0]) + 0.587 * f64::from(c[1]) + 0.114 * f64::from(c[2]);
+    assert!((luma(red) - luma(green)).abs() < 0.5);
+    closed_outline_and_nothing_else(disc_in(red, green), RADIUS);
+    // A grey disc as far from its ground in lightness alone as 1 / 255 draws nothing.
+    let (lines, _) = lines_of(disc_in([101; 3], [102; 3]));
+    assert!(lines.iter().all(|&v| v < 0.05));
+}
+
+/// The line map of `photo`, a disc of [`RADIUS`] about the centre, holds a closed line within
+/// 4 px outwards of radius `from` and no ink inside or far outside.
+fn closed_outline_and_nothing_else(photo: DynamicImage, from: f64) {
+    let (lines, cols) = lines_of(photo);
     let at = |r: f64, a: f64| {
         let c = f64::from(SIDE) / 2.0 - 0.5;
         let (x, y) = ((c + r * a.cos()).round(), (c + r * a.sin()).round());
@@ -64,7 +93,7 @@ fn a_black_disc_gets_a_closed_outline_and_nothing_else() {
         let a = f64::from(k).to_radians();
         // The line lies on the dark side of the rim, within a few pixels of it.
         let best = (0..8)
-            .map(|i| at(RADIUS - 4.0 + f64::from(i) * 0.5, a))
+            .map(|i| at(from + f64::from(i) * 0.5, a))
             .fold(0.0f32, f32::max);
         weakest = weakest.min(best);
         for r in [0.0, 20.0, RADIUS - 15.0, RADIUS + 12.0, RADIUS + 30.0] {

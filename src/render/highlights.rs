@@ -7,18 +7,19 @@
 //! outlines, in the look's paper; the look leaves their paper out of its tone
 //! ([`super::outline_share`]). `f32`, on the structure tensor's grid.
 
-use super::node_grid::per_node;
-use super::outline::{bilinear, dog_kernel, EdgeResponses, OutlineParams, FLOOR, RHO, SHARPNESS};
+use super::edge_dog::{dog_kernel, RHO};
+use super::node_grid::{bilinear, per_node};
+use super::outline::{EdgeResponses, OutlineParams, FLOOR, SHARPNESS};
 use crate::field::TensorField;
 use image::DynamicImage;
 
 /// Where paper is laid along the photo's thin light lines: 0 to 1 per node of `tensor`'s grid
 /// (see the module's doc). The light side's response `(1 − ρ)·L − DoG` (as for outlines in the
 /// photo's colour) is scaled by how much lighter the node is than both sides across, at
-/// [`RIDGE_REACH`]·σ_c: `min / max` of the two differences, 0 on the light side of a step
+/// `RIDGE_REACH`·σ_c: `min / max` of the two differences, 0 on the light side of a step
 /// edge, whose far side is as light. Then the outlines' soft threshold, node by node, above the
 /// photo's grain: a light speck of grain is a ridge too, and a grainy photo would be sown with
-/// paper ([`grain_floor`]). At most the node's lightness: paper laid at `a` over the ink reads
+/// paper (`grain_floor`). At most the node's lightness: paper laid at `a` over the ink reads
 /// about `a`, so a highlight is no lighter than the photo under it (uncapped, a dim galaxy on a
 /// black sky came out a white speck: Hubble's deep field in pen-hatch 35.7 dB against 38.3).
 #[must_use]

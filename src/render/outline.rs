@@ -7,13 +7,19 @@
 //! photo's own structure tensor (the one its metric came from, paper section 3): its minor
 //! eigenvector runs along edges. Drawn in the photo's own colour ([`OutlineInk::Pixel`]), the
 //! lines are found on the light side of edges as well, by the same walk on the response above
-//! what a flat area gives: a thin light line is drawn back like a dark one.
+//! what a flat area gives: a thin light line is drawn back like a dark one. Where two colours
+//! of about one lightness meet, the chroma's difference across the edge stands in for the
+//! lightness' (`chroma_edges.rs`).
 //!
 //! Everything runs on the structure tensor's grid, the analysis resolution (diagonal at most
 //! 1536 px), so lines keep their width relative to the picture at any photo size; the line
 //! map is then read bilinearly at every output pixel. Lightness and responses are `f32`.
 
-use super::node_grid::{lightness_grid, major_axis, per_node};
+use super::chroma_edges::with_chroma_mut;
+use super::edge_dog::{across_edges, dog_kernel, RHO};
+use super::node_grid::{
+    bilinear_inside, blend, clamped_axis, colour_grid, major_axis, per_node, AxisWeights,
+};
 use super::outline_ink::{OutlineInk, PhotoInk};
 use crate::field::blur::round_to_byte;
 use crate::field::TensorField;
@@ -46,10 +52,6 @@ impl Default for OutlineParams {
     }
 }
 
-/// σ_s / σ_c of the difference of Gaussians (Kang et al. after Marr–Hildreth).
-const SURROUND: f32 = 1.6;
-/// Weight ρ of the surround: just under 1, so flat areas give a small positive response.
-pub(super) const RHO: f32 = 0.99;
 /// σ_m / σ_c of the averaging along the edge.
 const ALONG: f32 = 3.0;
 /// Sharpness φ of the soft threshold `−tanh(φ·H)`, for lightness in [0, 1].
@@ -75,10 +77,11 @@ impl EdgeResponses {
     #[must_use]
     pub fn new(photo: &DynamicImage, tensor: &TensorField, params: &OutlineParams) -> Self {
         let (cols, rows) = (tensor.cols(), tensor.rows());
-        let light = lightness_grid(photo, tensor);
+        let (light, chroma) = colour_grid(photo, tensor);
         let normals = per_node(cols, rows, |c, r| major_axis(&tensor.node(c, r)));
         let sigma_c = params.scale.max(0.1);
-        let dog = across_edges(&light, &normals, (cols, rows), sigma_c);
+        let mut dog = across_edges(&light, &normals, (cols, rows), &dog_kernel(sigma_c));
+        with_chroma_mut(&mut dog, &light, &chroma, &normals, (cols, rows), sigma_c);
         EdgeResponses {
             light,
             normals,
@@ -121,56 +124,6 @@ pub fn lines_of(responses: &EdgeResponses, ink: OutlineInk) -> Vec<f32> {
     };
     // Step 2: averaged along the flow, both ways from every node.
     along_flow(&walked, normals, cols, rows, sigma_c, true)
-}
-
-/// Step 1 of the lines: the difference of Gaussians of `light` across the edge at every node
-/// (along `normals`), σ_c = `sigma_c` nodes.
-pub(super) fn across_edges(
-    light: &[f32],
-    normals: &[[f32; 2]],
-    (cols, rows): (usize, usize),
-    sigma_c: f32,
-) -> Vec<f32> {
-    let across = dog_kernel(sigma_c);
-    let reach = (across.len() / 2) as f32;
-    per_node(cols, rows, |c, r| {
-        let (x, y) = (c as f32, r as f32);
-        let [nx, ny] = normals[r * cols + c];
-        let tap = |i: usize| {
-            let t = i as f32 - reach;
-            (x + t * nx, y + t * ny)
-        };
-        // Rounded products and sums are monotone in t, so when both ends of the
-        // segment lie on the grid every tap does, and the clamps can be skipped.
-        let inside = |(x, y): (f32, f32)| {
-            (0.0..=(cols - 1) as f32).contains(&x) && (0.0..=(rows - 1) as f32).contains(&y)
-        };
-        if inside(tap(0)) && inside(tap(across.len() - 1)) {
-            weighted_taps(&across, tap, |x, y| {
-                bilinear_inside(light, cols, rows, x, y)
-            })
-        } else {
-            weighted_taps(&across, tap, |x, y| bilinear(light, cols, rows, x, y))
-        }
-    })
-}
-
-/// `Σ w_i · read(tap(i))` over the kernel `weights`: one loop for both ways of reading the
-/// grid (generic, so each is inlined).
-#[inline(always)]
-fn weighted_taps(
-    weights: &[f32],
-    tap: impl Fn(usize) -> (f32, f32),
-    read: impl Fn(f32, f32) -> f32,
-) -> f32 {
-    weights
-        .iter()
-        .enumerate()
-        .map(|(i, w)| {
-            let (x, y) = tap(i);
-            w * read(x, y)
-        })
-        .sum()
 }
 
 /// Ink per node from the responses `dog` averaged along the flow of `normals` (a Gaussian of
@@ -363,8 +316,8 @@ pub fn outline_mask(
 
 /// Where every pixel of a `width × height` picture reads the line map: per column the two
 /// grid columns and the weight between them, per row the two grid rows and theirs, computed
-/// once (each pixel's position took a division and the clamps of [`bilinear`], and a 12 MP
-/// picture has 12 M of them). A value is [`bilinear`]'s at the pixel's centre, bit for bit.
+/// once (each pixel's position took a division and the clamps of `node_grid::bilinear`, and a
+/// 12 MP picture has 12 M of them). A value is `bilinear`'s at the pixel's centre, bit for bit.
 struct PictureGrid {
     cols: usize,
     rows: usize,
@@ -405,73 +358,10 @@ impl PictureGrid {
     }
 }
 
-/// Along one axis: a node, the next one (clamped to the grid) and the weight of the next.
-type AxisWeights = (usize, usize, f32);
-
-/// [`AxisWeights`] at `g`, `0 ≤ g ≤ n − 1` (or NaN, which gives node 0 and a NaN weight):
-/// truncation is the floor. Through `u32` (grids are far smaller): on x86-64 an `f32` becomes
-/// a `u32` in one conversion with its clamps, and back likewise, where `usize` (a `u64`) takes
-/// a branchy sequence each way; the line map's 24 M reads of a 1 MP pen-hatch paint were
-/// 20 ms faster.
-#[inline(always)]
-fn axis(g: f32, n: usize) -> AxisWeights {
-    let i = g as u32;
-    let t = g - i as f32;
-    let i = i as usize;
-    (i, (i + 1).min(n - 1), t)
-}
-
-/// [`axis`] at `g` clamped to the grid, as [`bilinear`] reads it.
-fn clamped_axis(g: f32, n: usize) -> AxisWeights {
-    axis(g.clamp(0.0, (n - 1) as f32), n)
-}
-
-/// `values` (row-major, `cols` wide) blended between the columns and rows of `x` and `y`.
-#[inline(always)]
-fn blend(values: &[f32], cols: usize, (i, i1, tx): AxisWeights, (j, j1, ty): AxisWeights) -> f32 {
-    let (r0, r1) = (j * cols, j1 * cols);
-    let top = values[r0 + i] + (values[r0 + i1] - values[r0 + i]) * tx;
-    let bottom = values[r1 + i] + (values[r1 + i1] - values[r1 + i]) * tx;
-    top + (bottom - top) * ty
-}
-
-/// The difference of Gaussians `G_σc − ρ·G_σs` sampled at whole steps over ±3σ_s, each
-/// Gaussian normalised to sum 1.
-pub(super) fn dog_kernel(sigma_c: f32) -> Vec<f32> {
-    let sigma_s = SURROUND * sigma_c;
-    let reach = (3.0 * sigma_s).ceil() as i32;
-    let gauss = |sigma: f32| -> Vec<f32> {
-        let g: Vec<f32> = (-reach..=reach)
-            .map(|t| (-(t * t) as f32 / (2.0 * sigma * sigma)).exp())
-            .collect();
-        let total: f32 = g.iter().sum();
-        g.into_iter().map(|v| v / total).collect()
-    };
-    let (c, s) = (gauss(sigma_c), gauss(sigma_s));
-    c.iter().zip(&s).map(|(c, s)| c - RHO * s).collect()
-}
-
-/// `values` (row-major `cols × rows`) at grid position `(x, y)`, bilinear, clamped at the
-/// grid's edges: the same values as [`super::colour::bilinear`] with clamped texel indices,
-/// all in `f32`. Clamping the position instead of the four indices gives the same blend (a
-/// texel blended with its clamped copy is itself), with two conversions instead of eight: the
-/// line map reads tens of these per node, and they were a third of a pen-hatch paint.
-#[inline]
-pub(super) fn bilinear(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
-    blend(values, cols, clamped_axis(x, cols), clamped_axis(y, rows))
-}
-
-/// [`bilinear`] at a position already on the grid (`0 ≤ x ≤ cols − 1`, `0 ≤ y ≤ rows − 1`),
-/// where its clamps change nothing: the same value without them. The across-edge taps and the
-/// flow walk, which stops at the grid's edge, read the grid this way.
-#[inline(always)]
-fn bilinear_inside(values: &[f32], cols: usize, rows: usize, x: f32, y: f32) -> f32 {
-    blend(values, cols, axis(x, cols), axis(y, rows))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::node_grid::bilinear;
 
     #[test]
     fn skipping_quiet_tiles_changes_no_node() {

@@ -75,7 +75,7 @@ impl OutlineShare {
             return 0.0;
         }
         let node = |u: f64| (u / self.spacing - 0.5) as f32;
-        super::outline::bilinear(values, self.cols, self.rows, node(p.x), node(p.y))
+        super::node_grid::bilinear(values, self.cols, self.rows, node(p.x), node(p.y))
     }
 
     /// The darkness (ink coverage, 0 to 1) a look draws at `p` for the photo's `darkness`
