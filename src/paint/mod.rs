@@ -20,7 +20,9 @@ use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
 use crate::render::highlights::highlights_of;
-use crate::render::outline::{draw_outlines, lines_of, outline_mask, EdgeResponses, OutlineParams};
+use crate::render::outline::{
+    draw_outlines, lines_of, outline_mask, picture_values, EdgeResponses, OutlineParams,
+};
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::outline_share::OutlineShare;
 use crate::render::{label_map, Look, Raster, RenderSize};
@@ -262,7 +264,7 @@ fn draw_reading(
                     paper,
                 );
                 if let Some(svg) = &mut svg {
-                    add_svg_outlines(svg, (loaded, map), photo, size, paper);
+                    add_svg_highlights(svg, (loaded, map), size, paper);
                 }
             }
         }
@@ -305,9 +307,57 @@ fn add_svg_outlines(
             (labels, inks)
         }
     };
-    let shapes = crate::render::svg::outlines(&labels, w, h, &inks, params.strength);
+    let inks: Vec<([u8; 3], f32)> = inks.into_iter().map(|c| (c, params.strength)).collect();
+    insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
+}
+
+/// Adds the highlights' vector form over the look in `svg`: `map`, the highlights' map on
+/// `loaded`'s tensor grid, laid in `params`' ink (the look's paper). The paper the raster lays
+/// is `strength × map` at each pixel, and the map of a dim highlight stays under half (it is
+/// no lighter than the photo there): every piece where it reaches [`HIGHLIGHT_TRACE`] is traced
+/// and filled at its mean, so the SVG lays about the paper the raster does. (Traced where it
+/// is at least half at full strength, as the outlines are, the rocket's grey masts and the
+/// dim galaxies of a deep field were missing from the SVG.)
+fn add_svg_highlights(
+    svg: &mut String,
+    (loaded, map): (&LoadedField, &[f32]),
+    size: RenderSize,
+    params: &OutlineParams,
+) {
+    let OutlineInk::Colour(paper) = params.ink else {
+        return;
+    };
+    if params.strength <= 0.0 {
+        return;
+    }
+    let (w, h) = (size.width, size.height);
+    let values = picture_values((&loaded.raw, map), loaded.metric.domain(), (w, h));
+    let mask: Vec<i32> = values
+        .iter()
+        .map(|&v| i32::from(v >= HIGHLIGHT_TRACE))
+        .collect();
+    let (labels, count) = outline_ink::pieces(&mask, w, h);
+    let mut sums = vec![(0.0f64, 0u32); count];
+    for (&l, &v) in labels.iter().zip(&values) {
+        if let Ok(l) = usize::try_from(l) {
+            sums[l].0 += f64::from(v);
+            sums[l].1 += 1;
+        }
+    }
+    let inks: Vec<([u8; 3], f32)> = sums
+        .iter()
+        .map(|&(sum, n)| (paper, params.strength * (sum / f64::from(n.max(1))) as f32))
+        .collect();
+    insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
+}
+
+/// Where the highlights' map is traced for the SVG ([`add_svg_highlights`]).
+const HIGHLIGHT_TRACE: f32 = 0.25;
+
+/// Inserts `shapes` before `svg`'s closing tag.
+fn insert_before_end(svg: &mut String, shapes: &str) {
     if let Some(end) = svg.rfind("</svg>") {
-        svg.insert_str(end, &shapes);
+        svg.insert_str(end, shapes);
     }
 }
 

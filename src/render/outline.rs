@@ -303,15 +303,31 @@ pub fn outline_mask(
     if params.strength <= 0.0 {
         return vec![0; w * h];
     }
+    picture_values((tensor, lines), domain, (w, h))
+        .iter()
+        .map(|&v| i32::from(v >= 0.5))
+        .collect()
+}
+
+/// `values` (a map on `tensor`'s grid: the outlines' [`line_map`] or the highlights') read at
+/// every pixel of a `width × height` picture (row-major), as [`draw_outlines`] reads them.
+#[must_use]
+pub fn picture_values(
+    (tensor, values): (&TensorField, &[f32]),
+    domain: glam::DVec2,
+    (w, h): (usize, usize),
+) -> Vec<f32> {
     let map = PictureGrid::new(tensor, domain, (w, h));
-    let mut mask = vec![0; w * h];
-    mask.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        let across = map.row(y);
-        for (x, m) in row.iter_mut().enumerate() {
-            *m = i32::from(map.value(lines, &across, x) >= 0.5);
-        }
-    });
-    mask
+    let mut out = vec![0.0; w * h];
+    out.par_chunks_mut(w.max(1))
+        .enumerate()
+        .for_each(|(y, row)| {
+            let across = map.row(y);
+            for (x, v) in row.iter_mut().enumerate() {
+                *v = map.value(values, &across, x);
+            }
+        });
+    out
 }
 
 /// Where every pixel of a `width × height` picture reads the line map: per column the two

@@ -372,15 +372,9 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
 /// The outlines as vector shapes, to go over a look's SVG: `labels` (output pixels,
 /// row-major: where the outlines' ink is at least half, the index of the ink in `inks`, −1
 /// elsewhere) traced and simplified like the cells, each label's shapes filled with its ink at
-/// `opacity` (their strength).
+/// its opacity (`inks` holds colour and opacity per label).
 #[must_use]
-pub fn outlines(
-    labels: &[i32],
-    width: usize,
-    height: usize,
-    inks: &[[u8; 3]],
-    opacity: f32,
-) -> String {
+pub fn outlines(labels: &[i32], width: usize, height: usize, inks: &[([u8; 3], f32)]) -> String {
     let borders = Borders::trace(labels, width, height);
     let simplified: Vec<Vec<[f32; 2]>> = borders
         .chains
@@ -388,7 +382,7 @@ pub fn outlines(
         .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
         .collect();
     let mut out = String::new();
-    for (ring_set, &ink) in rings(&borders, &simplified, inks.len()).iter().zip(inks) {
+    for (ring_set, &(ink, opacity)) in rings(&borders, &simplified, inks.len()).iter().zip(inks) {
         let mut d = String::new();
         for ring in ring_set {
             path_data(&mut d, ring, true);
