@@ -189,14 +189,12 @@ fn black_and_white_photos_give_the_expected_colours() {
     let white = flat_photo(255, 120, 80);
     let black = flat_photo(0, 120, 80);
     let paper = [247, 243, 232];
-    let ink = [20, 18, 16];
     for look in Look::NAMES {
         // The most frequent colour: cells, paper or glyph fill (borders and lines are thin).
         let (on_white, on_black) = match look {
             "mosaic" | "glyphs" | "stroke" => ([255; 3], [0; 3]),
             // Black is inked twice over (darker than one layer of ink can be).
-            "hatch" | "crosshatch" | "stipple" => (paper, [0; 3]),
-            "engraving" => (paper, ink),
+            "hatch" | "crosshatch" | "stipple" | "engraving" => (paper, [0; 3]),
             // The line is the cell's own colour, darkened: black on black.
             "line" => (paper, [0; 3]),
             // Threads darken and lighten the colour: only black stays exactly black.
@@ -215,6 +213,22 @@ fn black_and_white_photos_give_the_expected_colours() {
     // Hatch on white has no ink at all.
     let img = render_photo(&white, "hatch", 60, 40);
     assert!(img.pixels().all(|p| p.0 == paper));
+}
+
+#[test]
+fn the_engraving_reads_as_dark_as_the_photo_under_its_ink() {
+    // Its ink is [20, 18, 16]: greys darker than that are inked again, darkened to the tone,
+    // as the hatchings are; lighter ones take ink and paper in proportion. Seen from afar (the
+    // mean of the encoding, as the look mixes ink and paper), each reads as its grey. (Just
+    // above the ink, about 19 to 30, the lines swell to merge and read as the ink: `merge`.)
+    for value in [0u8, 6, 12, 48, 96] {
+        let img = render_photo(&flat_photo(value, 120, 80), "engraving", 120, 80);
+        let mean = mean_rgb(&img)[1];
+        assert!(
+            (mean - f64::from(value)).abs() < 4.0,
+            "grey {value} reads {mean:.1}"
+        );
+    }
 }
 
 /// The most frequent pixel value.

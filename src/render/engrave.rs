@@ -20,6 +20,8 @@
 //! segments take the maximum where they overlap, neighbouring lines add up (together they ink
 //! the pixels they share), and ink is mixed with the paper in the sRGB encoding, as the hatch
 //! looks are ([`super::texture`]).
+//! Where the tone is darker than the ink itself, the ink is laid again, darkened to the tone
+//! ([`engraving`]; on 22 held-out photos `tone.py`'s PSNR 34.4 → 36.7 dB, SSIM 0.926 → 0.975).
 //! Coverage is `f32`, geometry `f64` in domain units until it is scaled to output pixels.
 
 use super::colour::{bilinear, lightness, linear_of};
@@ -135,12 +137,26 @@ impl Tone {
 /// The lines of `scene` engraved with `params`, and their widths.
 #[must_use]
 pub fn engrave(scene: &Scene, params: &EngravingParams) -> Engraving {
+    let d_sep = line_separation(scene, params);
+    engrave_in(scene, params, Tone::of(scene, d_sep).as_ref(), d_sep)
+}
+
+/// The separation of the lines in domain units: `line_spacing` of the picture's diagonal, at
+/// least `min_spacing_px` output pixels.
+fn line_separation(scene: &Scene, params: &EngravingParams) -> f64 {
+    (f64::from(params.line_spacing) * scene.raster.domain.length())
+        .max(f64::from(params.min_spacing_px) / scene.pixels_per_unit)
+}
+
+/// [`engrave`] with the lines `d_sep` apart over `tone` (the photo's, or none: `params.tone`).
+fn engrave_in(
+    scene: &Scene,
+    params: &EngravingParams,
+    tone: Option<&Tone>,
+    d_sep: f64,
+) -> Engraving {
     let domain = scene.raster.domain;
-    let ppu = scene.pixels_per_unit;
-    let d_sep = (f64::from(params.line_spacing) * domain.length())
-        .max(f64::from(params.min_spacing_px) / ppu);
-    let tone = Tone::of(scene, d_sep);
-    let lightness_at = |p: DVec2| tone.as_ref().map_or(params.tone, |t| t.at(p));
+    let lightness_at = |p: DVec2| tone.map_or(params.tone, |t| t.at(p));
     let layout = LineLayout {
         d_sep,
         flat_angle: f64::from(params.flat_angle).to_radians(),
@@ -223,24 +239,186 @@ const MERGE_FROM: f64 = 0.93;
 /// closed the last slivers but merged more of the darkest detail: Hubble's recall 0.256).
 const MERGE_WIDEN: f64 = 0.5;
 
-/// Renders the engraving of `scene`.
+/// Renders the engraving of `scene`. Where the tone is darker than the ink itself, the ink is
+/// laid again, darkened to the tone (down to black for a black photo), as the hatchings do
+/// ([`super::texture::cell_tones`]): in one ink, a black coat, a night sky or a silhouette read
+/// as the ink's brown-black, 20 to 30 levels lighter than the photo (astronaut, 19 % of its
+/// pixels under 32: +23 levels).
 #[must_use]
 pub fn engraving(scene: &Scene, params: &EngravingParams) -> RgbImage {
-    let e = engrave(scene, params);
+    let d_sep = line_separation(scene, params);
+    let tone = Tone::of(scene, d_sep);
+    let e = engrave_in(scene, params, tone.as_ref(), d_sep);
     let r = scene.raster;
     let cover = coverage(&e, r.width, r.height, r.domain);
     let (paper, ink) = (params.paper.map(f32::from), params.ink.map(f32::from));
+    let deeper = DeeperInk::new(params);
+    let reader = tone
+        .as_ref()
+        .map(|t| ToneReader::new(t, r.domain, (r.width, r.height)));
     let mut out = vec![0u8; 3 * r.width * r.height];
     out.par_chunks_mut(3 * r.width)
         .zip(cover.par_chunks(r.width))
-        .for_each(|(row, cov)| {
+        .enumerate()
+        .for_each(|(y, (row, cov))| {
             for (px, &c) in row.chunks_exact_mut(3).zip(cov) {
                 for k in 0..3 {
                     px[k] = round_to_byte(paper[k] + (ink[k] - paper[k]) * c);
                 }
             }
+            // Then the ink laid again, in rows where some tone read is darker than the ink
+            // (most rows' are not: the plain loop above stays as fast as without it).
+            let across = reader.as_ref().map(|t| t.row(y));
+            let dark_row = match (&reader, &across) {
+                (Some(t), Some(a)) => t.row_low(a) < deeper.darker_below,
+                _ => params.tone < deeper.darker_below,
+            };
+            if !dark_row {
+                return;
+            }
+            for (x, (px, &c)) in row.chunks_exact_mut(3).zip(cov).enumerate() {
+                if c <= 0.0 {
+                    continue;
+                }
+                let l = match (&reader, &across) {
+                    (Some(t), Some(a)) => t.at(x, a, deeper.darker_below),
+                    _ => Some(params.tone),
+                };
+                if let Some(darker) = l.and_then(|l| deeper.at(l)) {
+                    for k in 0..3 {
+                        px[k] = round_to_byte(paper[k] + (darker[k] - paper[k]) * c);
+                    }
+                }
+            }
         });
     RgbImage::from_raw(r.width as u32, r.height as u32, out).expect("w·h RGB pixels")
+}
+
+/// The tone read at every pixel of a `width × height` picture: per column the two grid columns
+/// and the weight between them, per row the same, found once (a division and clamps per pixel
+/// cost 0.3 CPU-s at 12 MP); the lowest node of each grid row, so that a row of pixels whose
+/// nodes are all lighter than the ink reads none.
+struct ToneReader<'a> {
+    tone: &'a Tone,
+    columns: Vec<(usize, usize, f32)>,
+    rows: Vec<(usize, usize, f32)>,
+    node_row_low: Vec<f32>,
+}
+
+impl<'a> ToneReader<'a> {
+    fn new(tone: &'a Tone, domain: DVec2, (width, height): (usize, usize)) -> Self {
+        let axis = |n: usize, pixels: usize, extent: f64| -> Vec<(usize, usize, f32)> {
+            (0..pixels)
+                .map(|k| {
+                    let g = ((k as f64 + 0.5) * extent / pixels as f64 / tone.step - 0.5)
+                        .clamp(0.0, (n - 1) as f64);
+                    let i = g as usize;
+                    (i, (i + 1).min(n - 1), (g - i as f64) as f32)
+                })
+                .collect()
+        };
+        ToneReader {
+            tone,
+            columns: axis(tone.cols, width, domain.x),
+            rows: axis(tone.rows, height, domain.y),
+            node_row_low: tone
+                .values
+                .chunks(tone.cols)
+                .map(|row| row.iter().copied().fold(f32::INFINITY, f32::min))
+                .collect(),
+        }
+    }
+
+    /// Pixel row `y`'s two grid rows and the weight of the second.
+    fn row(&self, y: usize) -> (usize, usize, f32) {
+        self.rows[y]
+    }
+
+    /// The lowest node of the two grid rows `across`.
+    fn row_low(&self, &(j0, j1, _): &(usize, usize, f32)) -> f32 {
+        self.node_row_low[j0].min(self.node_row_low[j1])
+    }
+
+    /// The tone at pixel `x` of the row `across`, or `None` where its four nodes are all at
+    /// least `above` (the blend is too).
+    #[inline]
+    fn at(&self, x: usize, &(j0, j1, ty): &(usize, usize, f32), above: f32) -> Option<f32> {
+        let (i0, i1, tx) = self.columns[x];
+        let v = &self.tone.values;
+        let cols = self.tone.cols;
+        let (a, b) = (v[j0 * cols + i0], v[j0 * cols + i1]);
+        let (c, d) = (v[j1 * cols + i0], v[j1 * cols + i1]);
+        if a.min(b).min(c).min(d) >= above {
+            return None;
+        }
+        let top = a + (b - a) * tx;
+        let bottom = c + (d - c) * tx;
+        Some(top + (bottom - top) * ty)
+    }
+}
+
+/// The ink laid again where the tone is darker than the ink: the ink's colour scaled in linear
+/// light to the tone's lightness, tabulated over the tones darker than the ink (a power per
+/// dark pixel cost 0.3 CPU-s on a 12 MP photo with a dark tenth; the table is within a
+/// hundredth of a level of it).
+struct DeeperInk {
+    /// Tones at least this light (the tone curve's inverse at the ink's lightness, with a
+    /// margin for rounding) are not darker than the ink.
+    darker_below: f32,
+    /// The ink (sRGB values, 0 to 255) at [`DEEPER_STEPS`] + 1 tones evenly from 0 to
+    /// `darker_below`, `None` at those not darker than the ink.
+    table: Vec<Option<[f32; 3]>>,
+}
+
+/// Steps of [`DeeperInk`]'s table.
+const DEEPER_STEPS: usize = 1024;
+
+impl DeeperInk {
+    fn new(params: &EngravingParams) -> Self {
+        use crate::field::structure::{linear_to_srgb, srgb_to_linear};
+        let ink = linear_of(params.ink);
+        let (ink_lightness, luminance) = (lightness(ink), super::colour::luminance(ink));
+        let gamma = params.gamma.max(1e-3);
+        let darker_below = 1.0 - (1.0 - ink_lightness).powf(1.0 / gamma) + 1e-3;
+        let table = (0..=DEEPER_STEPS)
+            .map(|s| {
+                let l = darker_below * s as f32 / DEEPER_STEPS as f32;
+                let target = 1.0 - (1.0 - l.clamp(0.0, 1.0)).powf(gamma);
+                (target < ink_lightness && luminance > 0.0).then(|| {
+                    let k = (srgb_to_linear(target) / luminance).clamp(0.0, 1.0);
+                    ink.map(|v| 255.0 * linear_to_srgb(v * k))
+                })
+            })
+            .collect();
+        DeeperInk {
+            darker_below,
+            table,
+        }
+    }
+
+    /// The ink (sRGB values, 0 to 255) that reads as the tone of lightness `l` through the tone
+    /// curve, where that is darker than the ink; `None` elsewhere. Between two entries of the
+    /// table, their blend; next to a `None`, the nearer entry.
+    #[inline]
+    fn at(&self, l: f32) -> Option<[f32; 3]> {
+        // Most of a picture is lighter than the ink.
+        if l.is_nan() || l >= self.darker_below {
+            return None;
+        }
+        let g = (l.max(0.0) / self.darker_below) * DEEPER_STEPS as f32;
+        let i = (g as usize).min(DEEPER_STEPS - 1);
+        let t = g - i as f32;
+        match (self.table[i], self.table[i + 1]) {
+            (Some(a), Some(b)) => Some(std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t)),
+            (a, b) => {
+                if t < 0.5 {
+                    a
+                } else {
+                    b
+                }
+            }
+        }
+    }
 }
 
 /// The middle of a line's ink and its half-width at every point, from how far it reaches on
