@@ -113,6 +113,37 @@ fn a_flat_picture_gets_no_line() {
     assert!(lines.iter().all(|&v| v == 0.0));
 }
 
+/// The mean red of `img`'s pixels whose centres lie between radii `r0` and `r1` of its centre.
+fn ring_mean(img: &RgbImage, r0: f64, r1: f64) -> f64 {
+    let c = f64::from(SIDE) / 2.0;
+    let (mut sum, mut n) = (0.0, 0.0);
+    for (x, y, p) in img.enumerate_pixels() {
+        let r = (f64::from(x) + 0.5 - c).hypot(f64::from(y) + 0.5 - c);
+        if r >= r0 && r < r1 {
+            sum += f64::from(p.0[0]);
+            n += 1.0;
+        }
+    }
+    sum / n
+}
+
+#[test]
+fn outlines_are_no_lighter_than_the_black_they_lie_on() {
+    // The outlines' ink (#181412) lies on the dark side of the rim of a black disc, inside it,
+    // where the looks lay black: drawn as it is, it made a brown-black ring round the disc.
+    for look in ["pen-hatch", "crosshatch", "engraving"] {
+        let img = common::painted_with(&disc(), look, &[], 1);
+        let (rim, inside) = (
+            ring_mean(&img, RADIUS - 3.0, RADIUS - 1.0),
+            ring_mean(&img, 0.0, RADIUS - 10.0),
+        );
+        assert!(
+            rim < inside + 3.0,
+            "{look}: rim {rim:.1}, inside {inside:.1}"
+        );
+    }
+}
+
 #[test]
 fn ink_looks_draw_outlines_over_their_hatching() {
     // The rim of a mid-grey disc, just inside: with outlines the pen-hatch is darker there
@@ -128,18 +159,6 @@ fn ink_looks_draw_outlines_over_their_hatching() {
         )
     };
     let (with, without) = (paint("1"), paint("0"));
-    let ring_mean = |img: &RgbImage, r0: f64, r1: f64| {
-        let c = f64::from(SIDE) / 2.0;
-        let (mut sum, mut n) = (0.0, 0.0);
-        for (x, y, p) in img.enumerate_pixels() {
-            let r = (f64::from(x) + 0.5 - c).hypot(f64::from(y) + 0.5 - c);
-            if r >= r0 && r < r1 {
-                sum += f64::from(p.0[0]);
-                n += 1.0;
-            }
-        }
-        sum / n
-    };
     let (rim_with, rim_without) = (
         ring_mean(&with, RADIUS - 3.0, RADIUS),
         ring_mean(&without, RADIUS - 3.0, RADIUS),

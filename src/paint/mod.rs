@@ -21,7 +21,8 @@ use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
 use crate::render::highlights::highlights_of;
 use crate::render::outline::{
-    draw_outlines, lines_of, outline_mask, picture_values, EdgeResponses, OutlineParams,
+    draw_highlights, draw_outlines, lines_of, outline_mask, picture_values, EdgeResponses,
+    OutlineParams,
 };
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::outline_share::OutlineShare;
@@ -256,7 +257,7 @@ fn draw_reading(
                 add_svg_outlines(svg, (loaded, &lines), photo, size, &recipe.outline);
             }
             if let Some((paper, map)) = &highlights {
-                draw_outlines(
+                draw_highlights(
                     &mut image,
                     photo,
                     (&loaded.raw, map),

@@ -20,7 +20,7 @@ use super::edge_dog::{across_edges, dog_kernel, RHO};
 use super::node_grid::{
     bilinear_inside, blend, clamped_axis, colour_grid, major_axis, per_node, AxisWeights,
 };
-use super::outline_ink::{OutlineInk, PhotoInk};
+use super::outline_ink::{DarkerInk, OutlineInk, PhotoInk};
 use crate::field::blur::round_to_byte;
 use crate::field::TensorField;
 use image::{DynamicImage, RgbImage};
@@ -253,23 +253,55 @@ impl QuietTiles {
 
 /// Lays the outlines of `photo` over `image`, the painting at any size of `domain` (the
 /// photo's size in domain units), in `params.ink` ([`OutlineInk`]): `lines`, their
-/// [`line_map`] on `tensor`'s grid.
+/// [`line_map`] on `tensor`'s grid. One ink is no lighter than the photo under it: where the
+/// photo is darker than the ink, the ink there is darkened to the photo's lightness (a black
+/// silhouette on white kept a brown-black rim of the outlines' ink round it, where the looks
+/// lay black).
 pub fn draw_outlines(
+    image: &mut RgbImage,
+    photo: &DynamicImage,
+    lines: (&TensorField, &[f32]),
+    domain: glam::DVec2,
+    params: &OutlineParams,
+) {
+    draw_lines(image, photo, lines, domain, params, true);
+}
+
+/// Lays the highlights' paper (`map`, [`super::highlights::highlight_map`] on `tensor`'s
+/// grid) over `image` as [`draw_outlines`] lays lines, in `params.ink` as it is.
+pub fn draw_highlights(
+    image: &mut RgbImage,
+    photo: &DynamicImage,
+    map: (&TensorField, &[f32]),
+    domain: glam::DVec2,
+    params: &OutlineParams,
+) {
+    draw_lines(image, photo, map, domain, params, false);
+}
+
+/// [`draw_outlines`], with one ink darkened where the photo is darker (`no_lighter`) or not.
+fn draw_lines(
     image: &mut RgbImage,
     photo: &DynamicImage,
     (tensor, lines): (&TensorField, &[f32]),
     domain: glam::DVec2,
     params: &OutlineParams,
+    no_lighter: bool,
 ) {
     if params.strength <= 0.0 {
         return;
     }
     let (w, h) = (image.width() as usize, image.height() as usize);
     let map = PictureGrid::new(tensor, domain, (w, h));
-    let photo_ink = (params.ink == OutlineInk::Pixel).then(|| PhotoInk::new(photo, (w, h)));
+    let photo_ink =
+        (params.ink == OutlineInk::Pixel || no_lighter).then(|| PhotoInk::new(photo, (w, h)));
     let one_ink = match params.ink {
         OutlineInk::Colour(c) => c.map(f32::from),
         OutlineInk::Pixel => [0.0; 3],
+    };
+    let darker = match params.ink {
+        OutlineInk::Colour(c) if no_lighter => Some(DarkerInk::new(c)),
+        _ => None,
     };
     image
         .as_mut()
@@ -280,7 +312,15 @@ pub fn draw_outlines(
             for (x, px) in row.chunks_exact_mut(3).enumerate() {
                 let a = params.strength * map.value(lines, &across, x);
                 if a > 0.0 {
-                    let ink = photo_ink.as_ref().map_or(one_ink, |p| p.at(x, y));
+                    let under = photo_ink.as_ref().map(|p| p.at(x, y));
+                    let ink = match (params.ink, under) {
+                        (OutlineInk::Pixel, Some(photo)) => photo,
+                        (_, Some(photo)) => darker
+                            .as_ref()
+                            .and_then(|d| d.under(photo))
+                            .unwrap_or(one_ink),
+                        _ => one_ink,
+                    };
                     for k in 0..3 {
                         let v = f32::from(px[k]);
                         px[k] = round_to_byte(v + (ink[k] - v) * a);

@@ -6,7 +6,8 @@
 //!
 //! The photo is read bilinearly in 8-bit sRGB at every picture pixel's centre (clamped at the
 //! photo's edges), `f32`; at the photo's own size that is the pixel itself. For the SVG, every
-//! connected piece of the outlines' mask takes the mean photo colour over its pixels.
+//! connected piece of the outlines' mask takes the mean photo colour over its pixels. One ink
+//! is no lighter than the photo under it (`DarkerInk`, raster only).
 
 use super::colour::{bilinear, linear_of, rgb8, to_srgb, Linear};
 use glam::DVec2;
@@ -52,6 +53,15 @@ impl<'a> PhotoInk<'a> {
     #[inline]
     #[must_use]
     pub fn at(&self, x: usize, y: usize) -> [f32; 3] {
+        // At the photo's own size a pixel's centre is a texel's: the texel itself, as the blend
+        // gives it (its weights are 0), without the blend.
+        if self.scale == DVec2::ONE {
+            let (cx, cy) = (
+                x.min(self.photo.width() as usize - 1),
+                y.min(self.photo.height() as usize - 1),
+            );
+            return self.photo.get_pixel(cx as u32, cy as u32).0.map(f32::from);
+        }
         let (w, h) = (
             i64::from(self.photo.width()),
             i64::from(self.photo.height()),
@@ -122,6 +132,51 @@ pub fn piece_colours(labels: &[i32], count: usize, ink: &PhotoInk, width: usize)
     sums.iter()
         .map(|(sum, n)| sum.map(|s| to_srgb((s / f64::from((*n).max(1))) as f32)))
         .collect()
+}
+
+/// One ink no lighter than the photo under it ([`super::outline::draw_outlines`]): where the
+/// photo is darker, the ink's colour scaled in linear light to the photo's luminance.
+pub(super) struct DarkerInk {
+    ink: Linear,
+    luminance: f32,
+    /// The ink's sRGB luma (0 to 255) and a margin: a photo colour whose luma is above this is
+    /// not darker than the ink (the luma of the encoding and the encoded luminance differ by
+    /// a few levels at most for dark colours), so no power is taken there.
+    luma_above: f32,
+}
+
+impl DarkerInk {
+    pub(super) fn new(ink: [u8; 3]) -> Self {
+        let linear = linear_of(ink);
+        DarkerInk {
+            ink: linear,
+            luminance: super::colour::luminance(linear),
+            luma_above: luma(ink.map(f32::from)) + DARKER_MARGIN,
+        }
+    }
+
+    /// The ink over a photo of colour `photo` (sRGB, 0 to 255): `None` where the photo is not
+    /// darker than the ink.
+    #[inline]
+    pub(super) fn under(&self, photo: [f32; 3]) -> Option<[f32; 3]> {
+        use crate::field::structure::{linear_to_srgb, srgb_to_linear};
+        if luma(photo) > self.luma_above || self.luminance <= 0.0 {
+            return None;
+        }
+        let below = super::colour::luminance(photo.map(|v| srgb_to_linear(v / 255.0)));
+        (below < self.luminance).then(|| {
+            let k = below / self.luminance;
+            self.ink.map(|v| 255.0 * linear_to_srgb(v * k))
+        })
+    }
+}
+
+/// Levels of sRGB luma above the ink's within which [`DarkerInk`] compares luminances.
+const DARKER_MARGIN: f32 = 24.0;
+
+/// The sRGB luma of `c` (0 to 255).
+fn luma(c: [f32; 3]) -> f32 {
+    0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]
 }
 
 #[cfg(test)]
