@@ -25,18 +25,7 @@ fn from_line(x: f64, y: f64) -> f64 {
 /// A light line 1 px wide on a dark ground, anti-aliased over 4×4 points per pixel.
 fn light_line() -> DynamicImage {
     DynamicImage::ImageRgb8(RgbImage::from_fn(W, H, |x, y| {
-        let mut on = 0.0;
-        for j in 0..4 {
-            for i in 0..4 {
-                let (px, py) = (
-                    f64::from(x) + (f64::from(i) + 0.5) / 4.0,
-                    f64::from(y) + (f64::from(j) + 0.5) / 4.0,
-                );
-                if from_line(px, py) < HALF {
-                    on += 1.0 / 16.0;
-                }
-            }
-        }
+        let on = common::covered(x, y, |px, py| from_line(px, py) < HALF);
         let v = (GROUND + (LINE - GROUND) * on).round() as u8;
         image::Rgb([v, v, v])
     }))
@@ -104,17 +93,10 @@ fn paint(look: &str, strength: &str) -> RgbImage {
 
 /// Mean grey of the pixels whose centres lie within `(d0, d1)` of the line, away from the border.
 fn band_mean(img: &RgbImage, d0: f64, d1: f64) -> f64 {
-    let (mut sum, mut n) = (0.0, 0.0);
-    for (x, y, p) in img.enumerate_pixels() {
-        let (x, y) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+    common::mean_where(img, 1, |x, y| {
         let inside = x > 20.0 && x < f64::from(W) - 20.0 && y > 20.0 && y < f64::from(H) - 20.0;
-        let d = from_line(x, y);
-        if inside && d >= d0 && d < d1 {
-            sum += f64::from(p.0[1]);
-            n += 1.0;
-        }
-    }
-    sum / n
+        inside && (d0..d1).contains(&from_line(x, y))
+    })
 }
 
 #[test]

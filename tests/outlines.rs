@@ -28,16 +28,7 @@ fn disc_of(level: u8) -> DynamicImage {
 fn disc_in(inside: [u8; 3], outside: [u8; 3]) -> DynamicImage {
     let c = f64::from(SIDE) / 2.0;
     DynamicImage::ImageRgb8(RgbImage::from_fn(SIDE, SIDE, |x, y| {
-        let mut share = 0.0f64;
-        for j in 0..4 {
-            for i in 0..4 {
-                let dx = f64::from(x) + (f64::from(i) + 0.5) / 4.0 - c;
-                let dy = f64::from(y) + (f64::from(j) + 0.5) / 4.0 - c;
-                if dx.hypot(dy) < RADIUS {
-                    share += 1.0 / 16.0;
-                }
-            }
-        }
+        let share = common::covered(x, y, |px, py| (px - c).hypot(py - c) < RADIUS);
         image::Rgb(std::array::from_fn(|k| {
             let (a, b) = (f64::from(inside[k]), f64::from(outside[k]));
             (b + (a - b) * share).round() as u8
@@ -116,15 +107,7 @@ fn a_flat_picture_gets_no_line() {
 /// The mean red of `img`'s pixels whose centres lie between radii `r0` and `r1` of its centre.
 fn ring_mean(img: &RgbImage, r0: f64, r1: f64) -> f64 {
     let c = f64::from(SIDE) / 2.0;
-    let (mut sum, mut n) = (0.0, 0.0);
-    for (x, y, p) in img.enumerate_pixels() {
-        let r = (f64::from(x) + 0.5 - c).hypot(f64::from(y) + 0.5 - c);
-        if r >= r0 && r < r1 {
-            sum += f64::from(p.0[0]);
-            n += 1.0;
-        }
-    }
-    sum / n
+    common::mean_where(img, 0, |x, y| (r0..r1).contains(&(x - c).hypot(y - c)))
 }
 
 #[test]

@@ -360,18 +360,7 @@ fn dim_highlights_are_in_the_svg_as_in_the_png() {
         d.min(12.0 - d)
     };
     let photo = RgbImage::from_fn(w, h, |x, y| {
-        let mut on = 0.0f64;
-        for j in 0..4 {
-            for i in 0..4 {
-                let (px, py) = (
-                    f64::from(x) + (f64::from(i) + 0.5) / 4.0,
-                    f64::from(y) + (f64::from(j) + 0.5) / 4.0,
-                );
-                if across(px, py) < 0.5 {
-                    on += 1.0 / 16.0;
-                }
-            }
-        }
+        let on = common::covered(x, y, |px, py| across(px, py) < 0.5);
         let v = (25.0 + 95.0 * on).round() as u8;
         image::Rgb([v, v, v])
     });
@@ -382,16 +371,10 @@ fn dim_highlights_are_in_the_svg_as_in_the_png() {
     let svg = rasterise_blended(&dir.path().join("pen-hatch.svg"), 4, Blend::Encoded);
     // The mean over the pixels on the lines, away from the picture's rim.
     let band = |img: &RgbImage| {
-        let (mut sum, mut n) = (0.0, 0.0);
-        for y in 10..h - 10 {
-            for x in 10..w - 10 {
-                if across(f64::from(x) + 0.5, f64::from(y) + 0.5) < 1.0 {
-                    sum += f64::from(img.get_pixel(x, y).0[1]);
-                    n += 1.0;
-                }
-            }
-        }
-        sum / n
+        let (w, h) = (f64::from(w), f64::from(h));
+        common::mean_where(img, 1, |x, y| {
+            x > 10.0 && x < w - 10.0 && y > 10.0 && y < h - 10.0 && across(x, y) < 1.0
+        })
     };
     let (on_png, on_svg) = (band(&png), band(&svg));
     eprintln!("along the lines: PNG {on_png:.1}, SVG {on_svg:.1}");

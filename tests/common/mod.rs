@@ -1,5 +1,6 @@
-//! Helpers shared by the integration tests: hand-made broken and unusual image files, and a
-//! painting through the library with a preset's keys set.
+//! Helpers shared by the integration tests: hand-made broken and unusual image files,
+//! anti-aliased synthetic pictures, and a painting through the library with a preset's keys
+//! set.
 #![allow(dead_code)]
 
 /// How many distinct colours a picture file holds: 1 means nothing was drawn on it.
@@ -148,4 +149,34 @@ pub fn painted_with(
     )
     .unwrap()
     .image
+}
+
+/// The share of pixel (`x`, `y`)'s square that `inside` holds, over 4×4 points: the
+/// anti-aliasing of the synthetic pictures whose answers the tests know.
+pub fn covered(x: u32, y: u32, inside: impl Fn(f64, f64) -> bool) -> f64 {
+    let mut share = 0.0;
+    for j in 0..4 {
+        for i in 0..4 {
+            let (px, py) = (
+                f64::from(x) + (f64::from(i) + 0.5) / 4.0,
+                f64::from(y) + (f64::from(j) + 0.5) / 4.0,
+            );
+            if inside(px, py) {
+                share += 1.0 / 16.0;
+            }
+        }
+    }
+    share
+}
+
+/// The mean of channel `k` of `img` over the pixels whose centres `keep` holds.
+pub fn mean_where(img: &image::RgbImage, k: usize, keep: impl Fn(f64, f64) -> bool) -> f64 {
+    let (mut sum, mut n) = (0.0, 0.0);
+    for (x, y, p) in img.enumerate_pixels() {
+        if keep(f64::from(x) + 0.5, f64::from(y) + 0.5) {
+            sum += f64::from(p.0[k]);
+            n += 1.0;
+        }
+    }
+    sum / n
 }
