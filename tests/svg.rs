@@ -385,6 +385,29 @@ fn dim_highlights_are_in_the_svg_as_in_the_png() {
 }
 
 #[test]
+fn the_engraving_svg_is_as_dark_as_the_png_under_its_ink() {
+    // Greys darker than the engraving's ink (#231c14, 29): the raster lays the ink again,
+    // darkened to the tone, and so does the SVG, in steps of tone; before, its one ink read 29.
+    let dir = tempfile::tempdir().unwrap();
+    let photo = RgbImage::from_fn(240, 160, |x, _| {
+        let v = if x < 120 { 6 } else { 16 };
+        image::Rgb([v, v, v])
+    });
+    let path = dir.path().join("dark.png");
+    photo.save(&path).unwrap();
+    let (png, _, _) = paint_photo_both(dir.path(), &path, "engraving", &[], 1);
+    let svg = rasterise_blended(&dir.path().join("engraving.svg"), 4, Blend::Encoded);
+    for (x0, x1) in [(20.0, 100.0), (140.0, 220.0)] {
+        let mean = |img: &RgbImage| {
+            common::mean_where(img, 1, |x, y| x > x0 && x < x1 && y > 20.0 && y < 140.0)
+        };
+        let (a, b) = (mean(&png), mean(&svg));
+        eprintln!("x {x0}..{x1}: PNG {a:.1}, SVG {b:.1}");
+        assert!((a - b).abs() < 4.0, "x {x0}..{x1}: PNG {a:.1}, SVG {b:.1}");
+    }
+}
+
+#[test]
 fn hatch_svg_lines_follow_the_field() {
     // A constant field at 30°: every vector line of the SVG runs at 30° (y down on screen).
     let dir = tempfile::tempdir().unwrap();

@@ -141,6 +141,46 @@ pub fn engrave(scene: &Scene, params: &EngravingParams) -> Engraving {
     engrave_in(scene, params, Tone::of(scene, d_sep).as_ref(), d_sep)
 }
 
+/// [`engrave`], and per point of every line the ink laid again there for the vector form: the
+/// raster's darker ink ([`engraving`]) at the tone under the point, in [`SVG_INK_LEVELS`] steps
+/// of tone from black to the ink's lightness, `None` where the tone is not darker than the ink.
+/// A line's run of points at one level is one filled shape of that ink.
+#[must_use]
+pub fn engrave_with_inks(
+    scene: &Scene,
+    params: &EngravingParams,
+) -> (Engraving, Vec<Vec<Option<[u8; 3]>>>) {
+    let d_sep = line_separation(scene, params);
+    let tone = Tone::of(scene, d_sep);
+    let e = engrave_in(scene, params, tone.as_ref(), d_sep);
+    let deeper = DeeperInk::new(params);
+    let step = deeper.darker_below / SVG_INK_LEVELS as f32;
+    let inks = e
+        .lines
+        .par_iter()
+        .map(|line| {
+            line.points
+                .iter()
+                .map(|&p| {
+                    let l = tone.as_ref().map_or(params.tone, |t| t.at(p));
+                    if l.is_nan() || l >= deeper.darker_below {
+                        return None;
+                    }
+                    // The middle of the level's range of tones.
+                    let level = (l.max(0.0) / step).floor().min(SVG_INK_LEVELS as f32 - 1.0);
+                    deeper
+                        .at((level + 0.5) * step)
+                        .map(|c| c.map(|v| v.round().clamp(0.0, 255.0) as u8))
+                })
+                .collect()
+        })
+        .collect();
+    (e, inks)
+}
+
+/// Steps of tone in which the SVG lays the engraving's darker ink ([`engrave_with_inks`]).
+pub const SVG_INK_LEVELS: usize = 8;
+
 /// The separation of the lines in domain units: `line_spacing` of the picture's diagonal, at
 /// least `min_spacing_px` output pixels.
 fn line_separation(scene: &Scene, params: &EngravingParams) -> f64 {

@@ -15,7 +15,7 @@
 
 use super::blurred_photo::BlurredPhoto;
 use super::colour::{linear_of, mix, to_srgb, Linear};
-use super::engrave::{engrave, EngravingParams};
+use super::engrave::{engrave_with_inks, EngravingParams};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
@@ -467,8 +467,10 @@ fn num(v: f32) -> Num {
     Num(v)
 }
 
-/// Writes the engraving of `scene`: paper, then every line as one filled outline whose width
-/// follows the raster's (its two sides as far from the line as its ink reaches on each).
+/// Writes the engraving of `scene`: paper, then every line as filled outlines whose width
+/// follows the raster's (its two sides as far from the line as its ink reaches on each), one
+/// per run of points in one ink: the engraving's, or where the tone is darker than it, the
+/// darker ink the raster lays there ([`engrave_with_inks`]).
 fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
     let r = scene.raster;
     let scale = glam::DVec2::new(r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
@@ -479,25 +481,42 @@ fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
         hex(linear_of(params.paper))
     );
     let _ = writeln!(out, r#"<g fill="{}">"#, hex(linear_of(params.ink)));
-    let e = engrave(scene, params);
+    let (e, inks) = engrave_with_inks(scene, params);
     let mut outline = Vec::new();
-    for (line, sides) in e.lines.iter().zip(&e.sides) {
+    for ((line, sides), inks) in e.lines.iter().zip(&e.sides).zip(&inks) {
         let pts = &line.points;
         if pts.len() < 2 || sides.iter().all(|&[l, r]| (l + r) * ppu < 0.05) {
             continue;
         }
-        outline.clear();
-        for (i, &p) in pts.iter().enumerate() {
-            let q = (p + normal_at(pts, i) * sides[i][0]) * scale;
-            outline.push([q.x as f32, q.y as f32]);
+        // Runs of one ink; consecutive runs share their boundary point, so they abut.
+        let mut start = 0;
+        while start + 1 < pts.len() {
+            let ink = inks[start];
+            let mut end = start + 1;
+            while end + 1 < pts.len() && inks[end] == ink {
+                end += 1;
+            }
+            outline.clear();
+            for i in start..=end {
+                let q = (pts[i] + normal_at(pts, i) * sides[i][0]) * scale;
+                outline.push([q.x as f32, q.y as f32]);
+            }
+            for i in (start..=end).rev() {
+                let q = (pts[i] - normal_at(pts, i) * sides[i][1]) * scale;
+                outline.push([q.x as f32, q.y as f32]);
+            }
+            let mut d = String::new();
+            path_data(&mut d, &outline, true);
+            match ink {
+                Some(c) => {
+                    let _ = writeln!(out, r#"<path fill="{}" d="{d}"/>"#, hex(linear_of(c)));
+                }
+                None => {
+                    let _ = writeln!(out, r#"<path d="{d}"/>"#);
+                }
+            }
+            start = end;
         }
-        for (i, &p) in pts.iter().enumerate().rev() {
-            let q = (p - normal_at(pts, i) * sides[i][1]) * scale;
-            outline.push([q.x as f32, q.y as f32]);
-        }
-        let mut d = String::new();
-        path_data(&mut d, &outline, true);
-        let _ = writeln!(out, r#"<path d="{d}"/>"#);
     }
     out.push_str("</g>\n");
 }
