@@ -488,7 +488,8 @@ fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
         if pts.len() < 2 || sides.iter().all(|&[l, r]| (l + r) * ppu < 0.05) {
             continue;
         }
-        // Runs of one ink; consecutive runs share their boundary point, so they abut.
+        // Runs of one ink, each drawn one segment into the next: opaque shapes that only abut
+        // leave a renderer's anti-aliasing seam between them, a speck of paper in a dark area.
         let mut start = 0;
         while start + 1 < pts.len() {
             let ink = inks[start];
@@ -497,11 +498,12 @@ fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
                 end += 1;
             }
             outline.clear();
-            for i in start..=end {
+            let last = (end + 1).min(pts.len() - 1);
+            for i in start..=last {
                 let q = (pts[i] + normal_at(pts, i) * sides[i][0]) * scale;
                 outline.push([q.x as f32, q.y as f32]);
             }
-            for i in (start..=end).rev() {
+            for i in (start..=last).rev() {
                 let q = (pts[i] - normal_at(pts, i) * sides[i][1]) * scale;
                 outline.push([q.x as f32, q.y as f32]);
             }
