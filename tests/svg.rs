@@ -408,6 +408,33 @@ fn the_engraving_svg_is_as_dark_as_the_png_under_its_ink() {
 }
 
 #[test]
+fn outline_svg_is_no_lighter_than_the_black_it_lies_on() {
+    // A black disc on white in pen-hatch: the outlines lie inside its rim, on black, where the
+    // PNG darkens their ink to black; the SVG's pieces of line take their ink darkened to the
+    // mean photo colour under them. Measured: PNG 0.0, SVG 6.9 (a piece's mean takes in the
+    // rim's grey pixels); in the one ink 23.5.
+    let dir = tempfile::tempdir().unwrap();
+    let (c, radius) = (100.0, 60.0);
+    let photo = RgbImage::from_fn(200, 200, |x, y| {
+        let on = common::covered(x, y, |px, py| (px - c).hypot(py - c) < radius);
+        let v = (255.0 * (1.0 - on)).round() as u8;
+        image::Rgb([v, v, v])
+    });
+    let path = dir.path().join("disc.png");
+    photo.save(&path).unwrap();
+    let (png, _, _) = paint_photo_both(dir.path(), &path, "pen-hatch", &[], 1);
+    let svg = rasterise_blended(&dir.path().join("pen-hatch.svg"), 4, Blend::Encoded);
+    let rim = |img: &RgbImage| {
+        common::mean_where(img, 0, |x, y| {
+            ((radius - 3.0)..(radius - 1.0)).contains(&(x - c).hypot(y - c))
+        })
+    };
+    let (a, b) = (rim(&png), rim(&svg));
+    eprintln!("rim: PNG {a:.1}, SVG {b:.1}");
+    assert!(b < a + 10.0, "rim: PNG {a:.1}, SVG {b:.1}");
+}
+
+#[test]
 fn hatch_svg_lines_follow_the_field() {
     // A constant field at 30°: every vector line of the SVG runs at 30° (y down on screen).
     let dir = tempfile::tempdir().unwrap();

@@ -298,15 +298,24 @@ fn add_svg_outlines(
     }
     let (w, h) = (size.width, size.height);
     let mask = outline_mask((&loaded.raw, lines), loaded.metric.domain(), (w, h), params);
-    // One shape set in the ink, or every piece of the lines in the photo's mean colour under it.
-    let (labels, inks) = match params.ink {
-        OutlineInk::Colour(ink) => (mask.iter().map(|&m| m - 1).collect(), vec![ink]),
-        OutlineInk::Pixel => {
-            let (labels, count) = outline_ink::pieces(&mask, w, h);
-            let photo_ink = PhotoInk::new(photo, (w, h));
-            let inks = outline_ink::piece_colours(&labels, count, &photo_ink, w);
-            (labels, inks)
+    // Every piece of the lines in the photo's mean colour under it, or in the ink, darkened
+    // where that mean is darker than the ink (as the raster darkens it per pixel).
+    let (labels, count) = outline_ink::pieces(&mask, w, h);
+    let photo_ink = PhotoInk::new(photo, (w, h));
+    let means = outline_ink::piece_colours(&labels, count, &photo_ink, w);
+    let inks = match params.ink {
+        OutlineInk::Colour(ink) => {
+            let darker = outline_ink::DarkerInk::new(ink);
+            means
+                .iter()
+                .map(|m| {
+                    darker
+                        .under(m.map(f32::from))
+                        .map_or(ink, |c| c.map(|v| v.round().clamp(0.0, 255.0) as u8))
+                })
+                .collect()
         }
+        OutlineInk::Pixel => means,
     };
     let inks: Vec<([u8; 3], f32)> = inks.into_iter().map(|c| (c, params.strength)).collect();
     insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));

@@ -7,7 +7,8 @@
 //! The photo is read bilinearly in 8-bit sRGB at every picture pixel's centre (clamped at the
 //! photo's edges), `f32`; at the photo's own size that is the pixel itself. For the SVG, every
 //! connected piece of the outlines' mask takes the mean photo colour over its pixels. One ink
-//! is no lighter than the photo under it (`DarkerInk`, raster only).
+//! is no lighter than the photo under it ([`DarkerInk`]; in the SVG, per piece of line, over
+//! its mean photo colour).
 
 use super::colour::{bilinear, linear_of, rgb8, to_srgb, Linear};
 use glam::DVec2;
@@ -136,7 +137,7 @@ pub fn piece_colours(labels: &[i32], count: usize, ink: &PhotoInk, width: usize)
 
 /// One ink no lighter than the photo under it ([`super::outline::draw_outlines`]): where the
 /// photo is darker, the ink's colour scaled in linear light to the photo's luminance.
-pub(super) struct DarkerInk {
+pub struct DarkerInk {
     ink: Linear,
     luminance: f32,
     /// The ink's sRGB luma (0 to 255) and a margin: a photo colour whose luma is above this is
@@ -146,7 +147,9 @@ pub(super) struct DarkerInk {
 }
 
 impl DarkerInk {
-    pub(super) fn new(ink: [u8; 3]) -> Self {
+    /// The darkening of `ink` (sRGB).
+    #[must_use]
+    pub fn new(ink: [u8; 3]) -> Self {
         let linear = linear_of(ink);
         DarkerInk {
             ink: linear,
@@ -158,7 +161,8 @@ impl DarkerInk {
     /// The ink over a photo of colour `photo` (sRGB, 0 to 255): `None` where the photo is not
     /// darker than the ink.
     #[inline]
-    pub(super) fn under(&self, photo: [f32; 3]) -> Option<[f32; 3]> {
+    #[must_use]
+    pub fn under(&self, photo: [f32; 3]) -> Option<[f32; 3]> {
         use crate::field::structure::{linear_to_srgb, srgb_to_linear};
         if luma(photo) > self.luma_above || self.luminance <= 0.0 {
             return None;
