@@ -21,6 +21,7 @@ mod disjoint;
 mod edge_dog;
 mod edge_stop;
 pub mod engrave;
+mod engrave_tone;
 pub mod fabric;
 pub mod font;
 mod frames;
