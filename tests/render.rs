@@ -217,11 +217,12 @@ fn black_and_white_photos_give_the_expected_colours() {
 
 #[test]
 fn the_engraving_reads_as_dark_as_the_photo_under_its_ink() {
-    // Its ink is [20, 18, 16]: greys darker than that are inked again, darkened to the tone,
-    // as the hatchings are; lighter ones take ink and paper in proportion. Seen from afar (the
-    // mean of the encoding, as the look mixes ink and paper), each reads as its grey. (Just
-    // above the ink, about 19 to 30, the lines swell to merge and read as the ink: `merge`.)
-    for value in [0u8, 6, 12, 48, 96] {
+    // Its ink is [20, 18, 16]: lighter greys take ink and paper in proportion; from a little
+    // above the ink down to black the lines leave slits of paper in proportion to the tone and
+    // their ink darkens to keep it. Seen from afar (the mean of the encoding, as the look mixes
+    // ink and paper), each reads as its grey. (Before, the lines merged into the ink itself
+    // from about 30 down to it, and every grey there read as the ink.)
+    for value in [0u8, 6, 12, 20, 26, 32, 48, 96] {
         let img = render_photo(&flat_photo(value, 120, 80), "engraving", 120, 80);
         let mean = mean_rgb(&img)[1];
         assert!(
