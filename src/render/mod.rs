@@ -37,6 +37,7 @@ pub mod outline_ink;
 pub mod outline_share;
 pub mod pieces;
 pub mod preview;
+mod quiet_cells;
 pub mod raster;
 mod refine;
 pub mod rounding;

@@ -20,6 +20,7 @@ use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear
 use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
+use super::quiet_cells::quiet_cells;
 use super::rounding::{cube_root, floor};
 use super::scene::{Average, Scene};
 use super::stipple::{dab_at, dot_coverage_at, next_render, stipple_radius, Dab};
@@ -150,10 +151,11 @@ impl TextureParams {
 }
 
 /// Every cell of `scene` framed for texturing ([`cell_frames`]): with
-/// [`TextureParams::flat_angle`], hatch and cross-hatch cells rounder than `fade_anisotropy`
-/// are hatched at that angle, one spacing per flat area (cells touching in the triangulation),
-/// no larger than lines [`FLAT_SPACING`] of the picture's diagonal apart need (a flat area is
-/// hatched finely and evenly, not in the coarse lines of its large cells).
+/// [`TextureParams::flat_angle`], hatch and cross-hatch cells rounder than `fade_anisotropy`,
+/// or with no structure of their own (`quiet_cells.rs`), are hatched at that angle, one
+/// spacing per flat area (cells touching in the triangulation), no larger than lines
+/// [`FLAT_SPACING`] of the picture's diagonal apart need (a flat area is hatched finely and
+/// evenly, not in the coarse lines of its large cells).
 pub(super) fn texture_frames(scene: &Scene, p: &TextureParams) -> Vec<Frame> {
     let hatched = matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch);
     let diagonal = scene.raster.domain.length();
@@ -164,13 +166,11 @@ pub(super) fn texture_frames(scene: &Scene, p: &TextureParams) -> Vec<Frame> {
     });
     // Every pair of touching cells once.
     let neighbours: Vec<[u32; 2]> = match flat {
-        Some(_) => {
-            let mesh = scene.cells.mesh();
-            mesh.edges(scene.cells.positions().len()).ends
-        }
+        Some(_) => scene.cells.mesh().edges(scene.cells.positions().len()).ends,
         None => Vec::new(),
     };
-    cell_frames(scene.cells.metrics(), &neighbours, flat)
+    let quiet = flat.and_then(|_| quiet_cells(&scene.cells));
+    cell_frames(scene.cells.metrics(), &neighbours, flat, quiet.as_deref())
 }
 
 /// The widest spacing of flat hatching, as a share of the picture's diagonal.
