@@ -177,6 +177,34 @@ fn period_along_rows(img: &RgbImage, x0: u32, x1: u32) -> u32 {
 }
 
 #[test]
+fn a_plain_beside_a_band_of_detail_is_hatched_at_the_plains_spacing() {
+    // Eight dark lines a pixel wide down a flat grey: the metric makes the cells small over the
+    // band and, by its gradation, beside it, where nothing but the plain lies. Those cells are
+    // hatched as the plain: at its angle, and at its spacing. On a rung of their own they laid
+    // an aura of finer lines round the band (the old code: period 6 px beside it, 11 px in the
+    // plain; measured now: 11 and 11).
+    let photo = RgbImage::from_fn(800, 500, |x, _| {
+        let line = (392..408).contains(&x) && x % 2 == 0;
+        image::Rgb([if line { 60 } else { 170 }; 3])
+    });
+    let mut preset = anisopaint::style::load("pen-hatch").unwrap();
+    anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
+    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image;
+    let plain = period_along_rows(&img, 50, 150);
+    for (x0, x1) in [(350, 390), (410, 450)] {
+        let beside = period_along_rows(&img, x0, x1);
+        assert_eq!(
+            beside, plain,
+            "columns {x0}..{x1}: period {beside}, plain {plain}"
+        );
+    }
+}
+
+#[test]
 fn a_plain_whose_grain_changes_is_hatched_at_one_spacing() {
     // Per-cell rungs hatched the smooth half at 17 px along the rows and the grainy half at 3,
     // with a seam between: one flat area takes one rung.

@@ -90,7 +90,7 @@ pub(super) fn cell_frames(
                 .then(|| f.b.min(flat.largest).max(1e-9).log2())
         })
         .collect();
-    let rungs = flat_areas(&octaves, neighbours);
+    let rungs = flat_areas(&octaves, neighbours, quiet);
     let (sin, cos) = flat.angle.sin_cos();
     for (f, rung) in frames.iter_mut().zip(rungs) {
         let Some(rung) = rung else {
@@ -149,7 +149,11 @@ const SELF_WEIGHT: f64 = 2.0;
 
 /// The rung (a whole octave) of every flat cell (`octaves[i]`, log₂ of its short axis, is
 /// `None` for a cell with a direction). A flat area is the flat cells joined by touching
-/// neighbours whose sizes differ by less than [`SAME_AREA_OCTAVES`]; all its cells take one
+/// neighbours whose sizes differ by less than [`SAME_AREA_OCTAVES`], or of which one is
+/// `quiet` (no structure of its own: its size is the metric's answer to a structure beside
+/// it, not the plain's; on their own rung, the cells round a mast in a plain sky were a
+/// finer, greyer aura round it; `tone.py`, 22 pictures, pen-hatch and crosshatch PSNR 36.39 →
+/// 36.56 and 36.73 → 37.00 dB, SSIM 0.9697 → 0.9708 and 0.9690 → 0.9733); all its cells take one
 /// rung: that of the median of every flat cell when the area's own median size is within half
 /// an octave of it, else that of its own median. Rounding each cell on its own cut through the
 /// sizes of a flat area wherever they spread across a half octave (a grey wall whose cells are
@@ -158,13 +162,18 @@ const SELF_WEIGHT: f64 = 2.0;
 /// gradually over an area and jump where a detail begins, so a galaxy's small cells in a black
 /// sky keep their own, finer rung; grain makes many small areas of about one size, which the
 /// shared median keeps on one rung.
-fn flat_areas(octaves: &[Option<f64>], neighbours: &[[u32; 2]]) -> Vec<Option<f64>> {
+fn flat_areas(
+    octaves: &[Option<f64>],
+    neighbours: &[[u32; 2]],
+    quiet: Option<&[bool]>,
+) -> Vec<Option<f64>> {
     let mut areas = DisjointSets::new(octaves.len());
+    let quiet = |i: u32| quiet.is_some_and(|q| q.get(i as usize) == Some(&true));
     for &[a, b] in neighbours {
         let (Some(oa), Some(ob)) = (octaves[a as usize], octaves[b as usize]) else {
             continue;
         };
-        if (oa - ob).abs() < SAME_AREA_OCTAVES {
+        if (oa - ob).abs() < SAME_AREA_OCTAVES || quiet(a) || quiet(b) {
             areas.join(a, b);
         }
     }
