@@ -45,18 +45,24 @@ fn assert_hatched_at_minus_45(img: &RgbImage, what: &str) {
     );
 }
 
+/// `photo` painted in preset `style` without its outlines (seed 5): the hatching alone.
+fn without_outlines(style: &str, photo: &RgbImage) -> RgbImage {
+    let mut preset = anisopaint::style::load(style).unwrap();
+    anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
+    paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image
+}
+
 #[test]
 fn a_flat_grey_photo_is_hatched_evenly_in_its_tone() {
     let grey = 170u8;
     let photo = RgbImage::from_pixel(200, 150, image::Rgb([grey; 3]));
     for style in ["pen-hatch", "crosshatch"] {
-        let mut preset = anisopaint::style::load(style).unwrap();
-        anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
-        let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
-        let loaded = photo_field(DynamicImage::ImageRgb8(photo.clone()), &recipe.field.metric);
-        let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-            .unwrap()
-            .image;
+        let img = without_outlines(style, &photo);
+        let preset = anisopaint::style::load(style).unwrap();
         if style == "pen-hatch" {
             assert_hatched_at_minus_45(&img, style);
         }
@@ -87,13 +93,7 @@ fn a_plain_beside_a_thin_line_is_hatched_at_the_flat_angle() {
     let photo = RgbImage::from_fn(200, 150, |x, _| {
         image::Rgb([if x == 100 { 60 } else { 170 }; 3])
     });
-    let mut preset = anisopaint::style::load("pen-hatch").unwrap();
-    anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
-    let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
-    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
-    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-        .unwrap()
-        .image;
+    let img = without_outlines("pen-hatch", &photo);
     let beside = |x: i64, _| (4..=16).contains(&(x - 100).abs());
     let along = difference_where(&img, 1, -1, beside);
     let across = difference_where(&img, 1, 1, beside);
@@ -187,13 +187,7 @@ fn a_plain_beside_a_band_of_detail_is_hatched_at_the_plains_spacing() {
         let line = (392..408).contains(&x) && x % 2 == 0;
         image::Rgb([if line { 60 } else { 170 }; 3])
     });
-    let mut preset = anisopaint::style::load("pen-hatch").unwrap();
-    anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
-    let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
-    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
-    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-        .unwrap()
-        .image;
+    let img = without_outlines("pen-hatch", &photo);
     let plain = period_along_rows(&img, 50, 150);
     for (x0, x1) in [(350, 390), (410, 450)] {
         let beside = period_along_rows(&img, x0, x1);
@@ -209,13 +203,7 @@ fn a_plain_whose_grain_changes_is_hatched_at_one_spacing() {
     // Per-cell rungs hatched the smooth half at 17 px along the rows and the grainy half at 3,
     // with a seam between: one flat area takes one rung.
     let photo = grainy_ramp(480, 240);
-    let mut preset = anisopaint::style::load("pen-hatch").unwrap();
-    anisopaint::style::apply_sets(&mut preset, &["look.outlines=0".into()]).unwrap();
-    let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();
-    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
-    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
-        .unwrap()
-        .image;
+    let img = without_outlines("pen-hatch", &photo);
     let periods: Vec<u32> = (0..8)
         .map(|k| period_along_rows(&img, k * 60, (k + 1) * 60))
         .collect();

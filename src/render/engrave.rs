@@ -11,10 +11,11 @@
 //! lines narrows in proportion to the tone and the ink darkens to keep it, so dark gradients
 //! keep their lines instead of merging into flat ink along a contour; only in the darkest
 //! tones do the lines swell past their share until neighbours merge into solid ink
-//! (`engrave_tone::LineShares`). Taking the two sides apart resolves the tone at half a spacing across the lines
-//! (a mast or a wire between two lines shows), and where lines part unevenly the ink follows
-//! the wider gap instead of overrunning the narrower one (on 20 photos, `tone.py`'s blurred
-//! PSNR 28.9 → 30.3 dB, SSIM 0.845 → 0.899, edge recall 0.828 → 0.869, every photo better).
+//! (`engrave_tone::LineShares`). Taking the two sides apart resolves the tone at half a spacing
+//! across the lines (a mast or a wire between two lines shows), and where lines part unevenly
+//! the ink follows the wider gap instead of overrunning the narrower one (on 20 photos,
+//! `tone.py`'s blurred PSNR 28.9 → 30.3 dB, SSIM 0.845 → 0.899, edge recall 0.828 → 0.869,
+//! every photo better).
 //! The tone is the photo's lightness blurred over a fifth of a line spacing (finer than the
 //! cells), or `tone` for a field without a photo, less what the outlines laid over the
 //! engraving will ink ([`super::outline_share`]; PSNR 30.3 → 32.6 dB, SSIM 0.899 → 0.909, recall

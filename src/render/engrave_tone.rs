@@ -204,12 +204,11 @@ impl LineShares {
 
     /// How much wider than its share a line at `cover` is drawn: not at all up to the cover
     /// at the ink's own tone (at least [`MERGE_FROM`]), then smoothly up to `1 + MERGE_WIDEN`
-    /// at solid ink. Streamlines are
-    /// only about `d_sep` apart: where neighbours part, or one ends, lines at exactly their
-    /// share leave slivers of paper, and a black area (a night sky, a dark coat, a silhouette)
-    /// read as white scratches on black (5 % of a black horse's pixels lighter than 100).
-    /// Lines that swell past their share in the darkest tones merge into solid ink, as an
-    /// engraver's do.
+    /// at solid ink. Streamlines are only about `d_sep` apart: where neighbours part, or one
+    /// ends, lines at exactly their share leave slivers of paper, and a black area (a night
+    /// sky, a dark coat, a silhouette) read as white scratches on black (5 % of a black
+    /// horse's pixels lighter than 100). Lines that swell past their share in the darkest
+    /// tones merge into solid ink, as an engraver's do.
     pub(super) fn widening(&self, cover: f32) -> f64 {
         let from = self.merge_from;
         let t = ((f64::from(cover) - from) / (1.0 - from).max(1e-6)).clamp(0.0, 1.0);
@@ -231,11 +230,10 @@ impl LineShares {
 }
 
 /// The coverage from which lines widen to merge ([`LineShares::widening`]) at the least.
-/// Chosen with
-/// `tone.py` on the shared photos and held-out ones (seed 7): from 0.93 the shared photos' edge
-/// recall stays within 0.01 of unmerged lines while their blurred SSIM rises (camera 0.820 →
-/// 0.876); from 0.85 the recall of dark skies fell further (Hubble's field 0.556 → 0.380, from
-/// 0.93 0.412).
+/// Chosen with `tone.py` on the shared photos and held-out ones (seed 7): from 0.93 the shared
+/// photos' edge recall stays within 0.01 of unmerged lines while their blurred SSIM rises
+/// (camera 0.820 → 0.876); from 0.85 the recall of dark skies fell further (Hubble's field
+/// 0.556 → 0.380, from 0.93 0.412).
 const MERGE_FROM: f64 = 0.93;
 
 /// The widening of a line at solid ink ([`LineShares::widening`]): half its share more (a
