@@ -125,6 +125,32 @@ fn a_flat_grey_is_engraved_with_parallel_unbroken_lines_of_its_tone() {
 }
 
 #[test]
+fn white_lines_on_black_paper_engrave_the_light_tones() {
+    // A scratchboard: an ink lighter than the paper. Its lines cover the share of the gap that
+    // gives the tone over the black; before, they covered it whole whatever the tone, and the
+    // ink, darkened to the tone, left a flat grey without a line (the deviation across the
+    // picture was 0).
+    let grey = 120u8;
+    let photo = RgbImage::from_pixel(W, H, image::Rgb([grey; 3]));
+    let mut preset = anisopaint::style::load("engraving").unwrap();
+    let sets = ["look.ink=#ffffff", "look.paper=#000000", "look.outlines=0"];
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
+    let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();
+    let loaded = photo_field(DynamicImage::ImageRgb8(photo), &recipe.field.metric);
+    let img = paint_loaded(&loaded, &recipe, Extras::default(), &Silent)
+        .unwrap()
+        .image;
+    let lumas: Vec<f64> = img.pixels().map(|p| f64::from(p[1])).collect();
+    let mean = lumas.iter().sum::<f64>() / lumas.len() as f64;
+    let spread =
+        (lumas.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / lumas.len() as f64).sqrt();
+    // Measured: 120.0 and 74.
+    assert!((mean - f64::from(grey)).abs() < 4.0, "reads {mean:.1}");
+    assert!(spread > 40.0, "no lines: deviation {spread:.1}");
+}
+
+#[test]
 fn a_ramp_is_engraved_along_its_isophotes_wider_where_darker() {
     let img = engrave(RgbImage::from_fn(W, H, |x, _| {
         let v = (40.0 + 180.0 * f64::from(x) / f64::from(W)).round() as u8;

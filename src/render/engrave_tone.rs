@@ -190,10 +190,11 @@ impl LineShares {
         self.slits_from
     }
 
-    /// The share of its half-gap a line's side inks at tone `t`, before it swells.
+    /// The share of its half-gap a line's side inks at tone `t`, before it swells. An ink
+    /// lighter than the paper (white lines on black, a scratchboard) inks the light tones.
     pub(super) fn cover(&self, t: f32) -> f32 {
         let room = self.paper - self.ink;
-        if room <= 1e-3 {
+        if room.abs() <= 1e-3 {
             1.0
         } else if t < self.slits_from {
             1.0 - SLIT_SHARE * t.max(0.0) / self.paper
