@@ -91,12 +91,22 @@ impl Look {
     }
 
     /// The paper of a look that lays one ink over paper ([`Self::inks_its_tone`]), which
-    /// highlights lay along the photo's light lines.
+    /// highlights lay along the photo's light lines; `None` where the paper is no lighter than
+    /// a fixed ink (white lines on black: the light lines are the ink's, and the paper laid
+    /// along them darkened them).
     #[must_use]
     pub fn paper(&self) -> Option<[u8; 3]> {
+        use super::colour::{lightness, linear_of};
+        use super::texture::Ink;
+        let lighter = |paper: [u8; 3], ink: [u8; 3]| {
+            (lightness(linear_of(paper)) > lightness(linear_of(ink))).then_some(paper)
+        };
         match self {
-            Look::Texture(p) if self.inks_its_tone() => Some(p.paper),
-            Look::Engraving(p) => Some(p.paper),
+            Look::Texture(p) if self.inks_its_tone() => match p.ink {
+                Ink::Fixed(ink) => lighter(p.paper, ink),
+                Ink::Cell(_) | Ink::Pixel(_) => Some(p.paper),
+            },
+            Look::Engraving(p) => lighter(p.paper, p.ink),
             _ => None,
         }
     }

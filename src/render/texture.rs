@@ -184,7 +184,8 @@ pub const FLAT_SPACING: f64 = 0.006;
 /// shading mixes paper and ink in that encoding too): a cell as light as the paper or lighter
 /// takes no ink, and coloured dots cover as much as their own colour needs. A cell darker than
 /// the ink itself is covered and inked again (a second layer over the first, as a pen goes
-/// over a solid black), its ink darkened to the target, down to black for a black photo.
+/// over a solid black), its ink darkened to the target, down to black for a black photo. A
+/// fixed ink lighter than the paper (white on black) covers `(target − paper) / (ink − paper)`.
 #[must_use]
 pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linear)> {
     let paper = lightness(linear_of(params.paper));
@@ -196,6 +197,11 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
                 Ink::Fixed(rgb) => linear_of(rgb),
                 Ink::Cell(k) | Ink::Pixel(k) => colour.map(|v| v * (1.0 - k)),
             };
+            let room = paper - lightness(ink);
+            if room < -1e-3 && matches!(params.ink, Ink::Fixed(_)) {
+                // Chalk on a blackboard: the share of ink that lifts the paper to the tone.
+                return (((target - paper) / -room).clamp(0.0, 1.0), ink);
+            }
             // A tone as light as the paper or lighter is bare paper: ink in the photo's own
             // colour would be as light as the tone, lighter than the paper, and cover the cell
             // whole, a speckle of jittered near-white dots on a white ground.
@@ -211,7 +217,6 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
                 // short of 1 and single white pixels of paper in black areas.)
                 return (1.0, ink);
             }
-            let room = paper - lightness(ink);
             let cover = if room > 1e-3 {
                 ((paper - target) / room).clamp(0.0, 1.0)
             } else {
@@ -222,11 +227,7 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
             // under its target came out 0.997 covered) is no tone anyone can see, but the gaps
             // of a dot lattice gather it into specks of bare paper, white stars in a black sky:
             // the cell is covered.
-            let cover = if (1.0 - cover) * room < 1.0 / 255.0 {
-                1.0
-            } else {
-                cover
-            };
+            let cover = cover.max(f32::from((1.0 - cover) * room < 1.0 / 255.0));
             (cover, ink)
         })
         .collect()
