@@ -74,6 +74,20 @@ pub fn luminance(c: Linear) -> f32 {
     0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
+/// `c` scaled in linear light to the luminance `y`, never above its own (black stays black):
+/// how the ink looks lay their ink again over a tone darker than it (the hatchings' cells, the
+/// engraving's dark tones, one-ink outlines over a darker photo).
+#[inline]
+#[must_use]
+pub fn darkened_to(c: Linear, y: f32) -> Linear {
+    let own = luminance(c);
+    if own <= 0.0 {
+        return c;
+    }
+    let k = (y / own).clamp(0.0, 1.0);
+    c.map(|v| v * k)
+}
+
 /// Perceived lightness in [0, 1] (the sRGB encoding of the luminance, close to CIE L*/100):
 /// what tone mapping of ink density follows.
 #[inline]

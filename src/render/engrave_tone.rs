@@ -6,7 +6,7 @@
 //! ([`DeeperInk`]).
 //! `f32` values, `f64` positions in domain units.
 
-use super::colour::{bilinear, lightness, linear_of};
+use super::colour::{bilinear, darkened_to, lightness, linear_of};
 use super::scene::Scene;
 use glam::DVec2;
 
@@ -273,8 +273,7 @@ impl DeeperInk {
                 let target = 1.0 - (1.0 - l.clamp(0.0, 1.0)).powf(gamma);
                 let lighter = shares.ink_lightness(target)?;
                 (luminance > 0.0).then(|| {
-                    let k = (srgb_to_linear(lighter) / luminance).clamp(0.0, 1.0);
-                    ink.map(|v| 255.0 * linear_to_srgb(v * k))
+                    darkened_to(ink, srgb_to_linear(lighter)).map(|v| 255.0 * linear_to_srgb(v))
                 })
             })
             .collect();

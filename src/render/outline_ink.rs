@@ -168,10 +168,8 @@ impl DarkerInk {
             return None;
         }
         let below = super::colour::luminance(photo.map(|v| srgb_to_linear(v / 255.0)));
-        (below < self.luminance).then(|| {
-            let k = below / self.luminance;
-            self.ink.map(|v| 255.0 * linear_to_srgb(v * k))
-        })
+        (below < self.luminance)
+            .then(|| super::colour::darkened_to(self.ink, below).map(|v| 255.0 * linear_to_srgb(v)))
     }
 }
 

@@ -16,7 +16,9 @@
 
 pub use super::blurred_photo::INK_BLUR;
 use super::blurred_photo::{BlurredPhoto, ToneGrid};
-use super::colour::{bilinear, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32};
+use super::colour::{
+    bilinear, darkened_to, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32,
+};
 use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
@@ -208,10 +210,8 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
             if target >= paper {
                 return (0.0, ink);
             }
-            let ink_luminance = super::colour::luminance(ink);
-            if target < lightness(ink) && ink_luminance > 0.0 {
-                let k = crate::field::structure::srgb_to_linear(target) / ink_luminance;
-                ink = ink.map(|v| v * k.clamp(0.0, 1.0));
+            if target < lightness(ink) && super::colour::luminance(ink) > 0.0 {
+                ink = darkened_to(ink, crate::field::structure::srgb_to_linear(target));
                 // The ink is the tone: covered whole. (Its lightness read back through the
                 // 8-bit encoding can be a level off the target, which gave a coverage just
                 // short of 1 and single white pixels of paper in black areas.)
