@@ -6,6 +6,7 @@
 
 use anisopaint::input::photo_field;
 use anisopaint::render::outline::{draw_outlines, line_map, OutlineParams};
+use anisopaint::render::outline_ink::OutlineInk;
 use image::{DynamicImage, RgbImage};
 
 mod common;
@@ -262,4 +263,43 @@ fn outlines_take_their_ink_out_of_the_ink_looks_tone() {
             "{style}: {with:.1} with outlines, {without:.1} without"
         );
     }
+}
+
+#[test]
+fn a_faint_lone_line_is_laid_whole_in_the_photos_colour_not_in_a_pens_ink() {
+    // A vertical 1 px line a little darker than a flat blue ground (steel 45/55/90 on a sky of
+    // 60/80/140). The pen's soft threshold inks such a faint line partly, as dark as its edge;
+    // the rigger (pixel ink), whose colour carries the contrast itself, lays a lone line whole.
+    let (w, h) = (200u32, 120u32);
+    let photo = DynamicImage::ImageRgb8(RgbImage::from_fn(w, h, |x, _| {
+        image::Rgb(if x == 100 {
+            [45, 55, 90]
+        } else {
+            [60, 80, 140]
+        })
+    }));
+    let loaded = photo_field(photo.clone(), &Default::default());
+    let cols = loaded.raw.cols();
+    let strongest = |ink: OutlineInk| {
+        let params = OutlineParams {
+            strength: 1.0,
+            ink,
+            ..OutlineParams::default()
+        };
+        let lines = line_map(&photo, &loaded.raw, &params);
+        // The median over the middle rows of each row's strongest ink near the line.
+        let mut per_row: Vec<f32> = (30..90)
+            .map(|r| {
+                let row = &lines[r * cols + 94..r * cols + 107];
+                row.iter().fold(0.0f32, |m, &v| m.max(v))
+            })
+            .collect();
+        per_row.sort_by(f32::total_cmp);
+        per_row[per_row.len() / 2]
+    };
+    let pen = strongest(OutlineInk::Colour([24, 20, 18]));
+    let rigger = strongest(OutlineInk::Pixel);
+    // Measured: the pen 0.17, the rigger 0.77 (0.17 as well before the rigger's gain).
+    assert!(pen > 0.1 && pen < 0.3, "the pen: {pen}");
+    assert!(rigger > 0.7, "the lone line in pixel ink: {rigger}");
 }

@@ -300,7 +300,11 @@ fn add_svg_outlines(
     let mask = outline_mask((&loaded.raw, lines), loaded.metric.domain(), (w, h), params);
     // Every piece of the lines in the photo's mean colour under it, or in the ink, darkened
     // where that mean is darker than the ink (as the raster darkens it per pixel).
-    let (labels, count) = outline_ink::pieces(&mask, w, h);
+    let side = match params.ink {
+        OutlineInk::Colour(_) => usize::MAX,
+        OutlineInk::Pixel => PIXEL_INK_TILE,
+    };
+    let (labels, count) = outline_ink::pieces_in_tiles(&mask, w, h, side);
     let photo_ink = PhotoInk::new(photo, (w, h));
     let means = outline_ink::piece_colours(&labels, count, &photo_ink, w);
     let inks = match params.ink {
@@ -360,6 +364,10 @@ fn add_svg_highlights(
         .collect();
     insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
 }
+
+/// Side in pixels of the tiles that cut the outlines in the photo's own colour into pieces
+/// for the SVG, each filled at its mean colour ([`outline_ink::pieces_in_tiles`]).
+const PIXEL_INK_TILE: usize = 4;
 
 /// Where the highlights' map is traced for the SVG ([`add_svg_highlights`]).
 const HIGHLIGHT_TRACE: f32 = 0.25;

@@ -34,6 +34,7 @@ pub mod mosaic;
 pub mod node_grid;
 pub mod outline;
 pub mod outline_ink;
+pub mod outline_rigger;
 pub mod outline_share;
 pub mod pieces;
 pub mod preview;

@@ -21,6 +21,7 @@ use super::node_grid::{
     bilinear_inside, blend, clamped_axis, colour_grid, major_axis, per_node, AxisWeights,
 };
 use super::outline_ink::{DarkerInk, OutlineInk, PhotoInk};
+use super::outline_rigger::sparse_lines_whole_mut;
 use crate::field::blur::round_to_byte;
 use crate::field::TensorField;
 use image::{DynamicImage, RgbImage};
@@ -95,7 +96,8 @@ impl EdgeResponses {
 
 /// The line map on `tensor`'s grid: ink in [0, 1] per node, 1 on the dark side of strong
 /// edges, 0 elsewhere; drawn in the photo's own colour ([`OutlineInk::Pixel`]), on the light
-/// side of strong edges too.
+/// side of strong edges too, and sparse lines whole as a rigger lays them
+/// ([`outline_rigger`](super::outline_rigger)).
 #[must_use]
 pub fn line_map(photo: &DynamicImage, tensor: &TensorField, params: &OutlineParams) -> Vec<f32> {
     lines_of(&EdgeResponses::new(photo, tensor, params), params.ink)
@@ -123,7 +125,11 @@ pub fn lines_of(responses: &EdgeResponses, ink: OutlineInk) -> Vec<f32> {
         std::borrow::Cow::Borrowed(&responses.dog)
     };
     // Step 2: averaged along the flow, both ways from every node.
-    along_flow(&walked, normals, cols, rows, sigma_c, true)
+    let mut lines = along_flow(&walked, normals, cols, rows, sigma_c, true);
+    if ink == OutlineInk::Pixel {
+        sparse_lines_whole_mut(&mut lines, (cols, rows), sigma_c);
+    }
+    lines
 }
 
 /// Ink per node from the responses `dog` averaged along the flow of `normals` (a Gaussian of
