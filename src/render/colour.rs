@@ -300,6 +300,24 @@ pub(super) fn bilinear<const N: usize>(
     lerp(top, bottom, ty)
 }
 
+/// `a + (b − a)·t` in the sRGB encoding, `a` given [`encoded`]: ink covering a share `t` of a
+/// pixel reads as that share of the way from paper to ink in lightness, as ink on paper
+/// averages at a distance and as SVG viewers blend (in linear light every partly inked pixel of
+/// a fine hatch comes out far lighter than its share of ink, and dark tones never get dark).
+pub(super) fn mix_encoded(a: [f32; 3], b: Linear, t: f32) -> Linear {
+    let b = encoded(b);
+    std::array::from_fn(|k| {
+        let e = a[k] + (b[k] - a[k]) * t;
+        // Round half up of a value in [0, 255] (no libm call; the same as `round` there).
+        to_linear((e.clamp(0.0, 255.0) + 0.5) as u8)
+    })
+}
+
+/// A linear colour's sRGB codes, as `f32`.
+pub(super) fn encoded(c: Linear) -> [f32; 3] {
+    c.map(|v| f32::from(to_srgb(v)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,7 +17,8 @@
 pub use super::blurred_photo::INK_BLUR;
 use super::blurred_photo::{BlurredPhoto, ToneGrid};
 use super::colour::{
-    bilinear, darkened_to, lightness, linear_of, mix, salt, site_hash, Linear, GOLDEN_U32,
+    bilinear, darkened_to, encoded, lightness, linear_of, mix, mix_encoded, salt, site_hash,
+    Linear, GOLDEN_U32,
 };
 use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
@@ -374,24 +375,6 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
     })
 }
 
-/// `a + (b − a)·t` in the sRGB encoding, `a` given [`encoded`]: ink covering a share `t` of a
-/// pixel reads as that share of the way from paper to ink in lightness, as ink on paper
-/// averages at a distance and as SVG viewers blend (in linear light every partly inked pixel of
-/// a fine hatch comes out far lighter than its share of ink, and dark tones never get dark).
-fn mix_encoded(a: [f32; 3], b: Linear, t: f32) -> Linear {
-    let b = encoded(b);
-    std::array::from_fn(|k| {
-        let e = a[k] + (b[k] - a[k]) * t;
-        // Round half up of a value in [0, 255] (no libm call; the same as `round` there).
-        super::colour::to_linear((e.clamp(0.0, 255.0) + 0.5) as u8)
-    })
-}
-
-/// A linear colour's sRGB codes, as `f32`.
-fn encoded(c: Linear) -> [f32; 3] {
-    c.map(|v| f32::from(super::colour::to_srgb(v)))
-}
-
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
 pub(super) fn smoothstep(edge: f32, x: f32) -> f32 {
     if edge <= 0.0 {
@@ -483,6 +466,10 @@ fn coverage(
             let mut paper_left = 1.0;
             for &layer in LAYERS.iter().take(k) {
                 paper_left *= 1.0 - lines(local, layer, s, across(layer), x, px);
+                // A layer that inks the whole pixel leaves nothing for the next.
+                if paper_left == 0.0 {
+                    break;
+                }
             }
             1.0 - paper_left
         }
