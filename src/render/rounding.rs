@@ -39,8 +39,10 @@ pub fn round(x: f64) -> f64 {
     }
 }
 
-/// `∛y` for `y ≥ 0` (within 2·10⁻⁷ of it relatively): an estimate from the float's bits, then
-/// Newton steps, no libm call.
+/// `∛y` for `y ≥ 0` (within 2·10⁻⁷ of it relatively): an estimate from the float's bits
+/// (within a few per cent), then two Halley steps `r·(r³ + 2y)/(2r³ + y)` in `f64`, whose
+/// error goes as its cube; no libm call. (Three Newton steps in `f32` took a division each:
+/// 12 MP crosshatch 3.40 → 3.31 CPU-s.)
 #[inline]
 #[must_use]
 pub fn cube_root(y: f32) -> f32 {
@@ -48,11 +50,13 @@ pub fn cube_root(y: f32) -> f32 {
         return 0.0;
     }
     // Dividing the exponent by three (the bits are about 2²³·(log₂ y + 127)).
-    let mut r = f32::from_bits(y.to_bits() / 3 + 709_921_077);
-    for _ in 0..3 {
-        r -= (r - y / (r * r)) / 3.0;
+    let r = f32::from_bits(y.to_bits() / 3 + 709_921_077);
+    let (mut r, y) = (f64::from(r), f64::from(y));
+    for _ in 0..2 {
+        let r3 = r * r * r;
+        r *= (r3 + 2.0 * y) / (2.0 * r3 + y);
     }
-    r
+    r as f32
 }
 
 #[cfg(test)]
