@@ -395,3 +395,26 @@ fn small_constant_fields_are_seeded_as_a_lattice() {
     .unwrap();
     assert_ne!(darts.positions, lattice.positions);
 }
+
+/// A 4:1 field whose long axes follow a vector field with sources, sinks and saddles (its
+/// orientation turns all the way round each of them at full anisotropy: not smooth there).
+/// Particles near those points never come to rest; the moves that turn a triangle over are
+/// taken back instead of the whole triangulation being rebuilt each time, and the packing
+/// stays within bounds that hold for smooth fields too.
+#[test]
+fn orientation_singularities_keep_the_triangulation_without_rebuilds() {
+    let period = 256.0;
+    let field = TensorField::from_fn(512, 512, |p| {
+        let w = std::f64::consts::TAU / period;
+        let angle = (w * p.y).sin().atan2((w * p.x).sin());
+        Tensor::from_eigen(angle, 12.0, 3.0)
+    });
+    let s = sampling::sample(&field, &SamplerParams::default()).unwrap();
+    check_inside(&s, &field);
+    let q = evaluate(&s, &field);
+    // Measured: 2 builds, coverage 84.2 %, overlap 1.5 %, nearest d at least 0.77 (each
+    // turned triangle rebuilding the whole mesh: 21 builds, 84.6 %, 1.6 %, 0.56).
+    assert!(s.stats.rebuilds <= 3, "{} rebuilds", s.stats.rebuilds);
+    assert!(q.coverage >= 0.83 && q.overlap <= 0.025, "{q:?}");
+    assert!(q.nn_min >= 0.6, "{q:?}");
+}

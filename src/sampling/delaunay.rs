@@ -169,6 +169,20 @@ impl AnisotropicDelaunay {
         })
     }
 
+    /// The triangles that are not counter-clockwise with positive area at `points`.
+    #[must_use]
+    pub fn turned_over_at(&self, points: &[DVec2]) -> Vec<[u32; 3]> {
+        self.triangles()
+            .filter(|t| {
+                orient(
+                    points[t[0] as usize],
+                    points[t[1] as usize],
+                    points[t[2] as usize],
+                ) <= 0.0
+            })
+            .collect()
+    }
+
     /// Lawson flips until every interior edge meets the generalised Delaunay criterion or the
     /// flip cap is hit. Returns the number of flips. The mesh must be valid at `points`.
     pub fn legalize(&mut self, points: &[DVec2], metric: &TensorField) -> usize {

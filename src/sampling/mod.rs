@@ -63,7 +63,9 @@ use crate::progress::{Observer, Stage};
 use glam::DVec2;
 use particles::Particles;
 use rayon::prelude::*;
-use relax::{control_population, rebuild, relax_once, repair, Dynamics, REPAIR_DRIFT};
+use relax::{
+    control_population, rebuild, relax_once, repair, undo_turnovers, Dynamics, REPAIR_DRIFT,
+};
 use seeding::Survey;
 use std::time::{Duration, Instant};
 
@@ -249,7 +251,8 @@ pub fn sample_observed(
             } else {
                 // Population control reads fill rates and one-rings of the current mesh,
                 // which must still be a valid triangulation of the moved particles.
-                if !mesh.is_valid_at(&particles.positions) {
+                if !mesh.is_valid_at(&particles.positions) && !undo_turnovers(&mesh, &mut particles)
+                {
                     mesh = rebuild(&mut particles, field, &mut stats);
                     renew_edges(&mut edges, &mesh, particles.positions.len());
                 }

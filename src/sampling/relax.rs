@@ -1,8 +1,9 @@
 //! One relaxation step and the triangulation's upkeep (paper sections 5.3-5.5): the force
 //! spline summed over each particle's anisotropic Delaunay edges and integrated by Euler steps
 //! of eq. 5 ([`relax_once`], where particles at rest sleep); Lawson repairs and rebuilds of
-//! the triangulation as particles move ([`repair`], [`rebuild`]); population control at the
-//! repairs ([`control_population`]: fill-rate insertion, pressure deletion).
+//! the triangulation as particles move ([`repair`], [`rebuild`]; moves that turned a triangle
+//! over are taken back first, [`undo_turnovers`]); population control at the repairs
+//! ([`control_population`]: fill-rate insertion, pressure deletion).
 
 use super::delaunay::AnisotropicDelaunay;
 use super::edges::Edges;
@@ -36,6 +37,38 @@ pub(super) fn rebuild(
     mesh
 }
 
+/// Takes back the motion since the triangulation was last made Delaunay (where it was valid)
+/// of the corners of every triangle the particles' motion turned over, round after round as
+/// neighbours' triangles turn back too (at most [`UNDO_ROUNDS`]); whether the mesh is then
+/// valid. Smooth fields rarely turn a triangle over (one build in a run on the rotating 4:1
+/// field, one to three on photos); a field whose orientation has singular points at full
+/// anisotropy (11 k ellipses, their axes the direction of a random vector field) kept doing
+/// it near them, and each time the whole triangulation was rebuilt: 26 builds, 369 of its
+/// 507 ms, now 2 builds and 68 ms (coverage 85.8 → 85.7 %, overlap 2.3 → 1.9 %).
+pub(super) fn undo_turnovers(mesh: &AnisotropicDelaunay, particles: &mut Particles) -> bool {
+    for _ in 0..UNDO_ROUNDS {
+        let turned = mesh.turned_over_at(&particles.positions);
+        if turned.is_empty() {
+            return true;
+        }
+        for v in turned.into_iter().flatten() {
+            let v = v as usize;
+            let back = particles.meshed_at[v];
+            // Never meshed (inserted since): nowhere to go back to.
+            if !back.is_finite() {
+                return false;
+            }
+            particles.positions[v] = back;
+            particles.velocities[v] = DVec2::ZERO;
+            particles.motion[v] |= AWAKE | MOVED;
+        }
+    }
+    mesh.is_valid_at(&particles.positions)
+}
+
+/// Rounds of [`undo_turnovers`] before a rebuild.
+const UNDO_ROUNDS: usize = 8;
+
 /// Moves the mesh's flip and cap-hit counts into the run's stats.
 fn take_flip_counts(mesh: &mut AnisotropicDelaunay, stats: &mut Stats) {
     stats.flips += std::mem::take(&mut mesh.flips);
@@ -43,14 +76,15 @@ fn take_flip_counts(mesh: &mut AnisotropicDelaunay, stats: &mut Stats) {
 }
 
 /// Brings the triangulation up to date with moved particles: Lawson flips when every
-/// triangle is still counter-clockwise, a rebuild otherwise.
+/// triangle is still counter-clockwise (or is again once [`undo_turnovers`] took back the
+/// moves that turned some over), a rebuild otherwise.
 pub(super) fn repair(
     mut mesh: AnisotropicDelaunay,
     particles: &mut Particles,
     field: &TensorField,
     stats: &mut Stats,
 ) -> AnisotropicDelaunay {
-    if !mesh.is_valid_at(&particles.positions) {
+    if !mesh.is_valid_at(&particles.positions) && !undo_turnovers(&mesh, particles) {
         return rebuild(particles, field, stats);
     }
     let t = Instant::now();
