@@ -4,7 +4,8 @@
 //!
 //! `seeding` compares the lattice seed with the paper's relaxation dart throwing on the photo's
 //! metric and on the rotating 4:1 field the metric meshers are compared on (issue 14, seeding
-//! ten times faster).
+//! ten times faster). `end_to_end` runs the sampler on that rotating field and on one whose
+//! orientation has singular points (ellipses along a vector field's direction).
 //!
 //! Run: `cargo bench --bench sampling`. Stage times come from the sampler's own stats through
 //! `iter_custom`, so "iterations" excludes seeding. The 1 M case takes about 40 s per run and
@@ -37,6 +38,18 @@ fn rotating_field(n: f64, side: usize) -> TensorField {
     let s = side as f64;
     TensorField::from_fn(side, side, |p| {
         let angle = std::f64::consts::PI * (0.6 * p.x / s + 0.4 * p.y / s);
+        Tensor::from_eigen(angle, 4.0 * b, b)
+    })
+}
+
+/// 4:1 ellipses along the direction of the vector field `(sin ωx, sin ωy)` with four periods
+/// across a `side²` square, sized for about `n` samples: its sources, sinks and saddles are
+/// singular points of the orientation at full anisotropy (the field of a flow's direction).
+fn singular_field(n: f64, side: usize) -> TensorField {
+    let b = ((side * side) as f64 / n / (2.0 * 3f64.sqrt()) / 4.0).sqrt();
+    let w = std::f64::consts::TAU * 4.0 / side as f64;
+    TensorField::from_fn(side, side, |p| {
+        let angle = (w * p.y).sin().atan2((w * p.x).sin());
         Tensor::from_eigen(angle, 4.0 * b, b)
     })
 }
@@ -131,5 +144,22 @@ fn scaling(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, seeding, photo_10k, scaling);
+/// A whole run on a smooth field and on one with singular points, both 11 k samples: the
+/// triangulation's upkeep where particles never come to rest.
+fn singular(c: &mut Criterion) {
+    let fields = [
+        ("rotating_11k", rotating_field(11_000.0, 1024)),
+        ("singular_11k", singular_field(11_000.0, 1024)),
+    ];
+    let mut g = c.benchmark_group("end_to_end");
+    g.sample_size(10);
+    for (name, field) in &fields {
+        g.bench_function(*name, |b| {
+            b.iter(|| sampling::sample(field, &SamplerParams::default()).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, seeding, photo_10k, scaling, singular);
 criterion_main!(benches);
