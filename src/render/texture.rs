@@ -228,7 +228,11 @@ pub fn cell_tones(colours: &[Linear], params: &TextureParams) -> Vec<(f32, Linea
             // under its target came out 0.997 covered) is no tone anyone can see, but the gaps
             // of a dot lattice gather it into specks of bare paper, white stars in a black sky:
             // the cell is covered.
-            let cover = cover.max(f32::from((1.0 - cover) * room < 1.0 / 255.0));
+            let cover = if (1.0 - cover) * room < 1.0 / 255.0 {
+                1.0
+            } else {
+                cover
+            };
             (cover, ink)
         })
         .collect()
