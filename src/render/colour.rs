@@ -245,6 +245,8 @@ pub mod salt {
     pub const FABRIC_THREAD: u64 = 12;
     /// Lightness, red, green and blue of a pointillist dot (16 bits each of one word).
     pub const DOT_COLOUR: u64 = 16;
+    /// The turn of a brush stroke in a flat area from the flat angle.
+    pub const FLAT_STROKE: u64 = 17;
 }
 
 /// Knuth's multiplicative hash constant (2³² / φ): spreads consecutive integers over `u32`

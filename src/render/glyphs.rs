@@ -88,6 +88,10 @@ pub struct GlyphParams {
     /// and so are the detail strokes of half and a quarter the size; 0 lays every stroke and
     /// no detail strokes. See `refine.rs`.
     pub refine: f32,
+    /// Brush strokes over a photo at the samples: the direction (degrees from the x axis,
+    /// y down) of the long strokes laid across flat areas, where the cells have no structure
+    /// (`flat_strokes.rs`). `None`: every stroke keeps its cell's ellipse, round there.
+    pub flat_angle: Option<f32>,
 }
 
 impl Default for GlyphParams {
@@ -104,6 +108,7 @@ impl Default for GlyphParams {
             underpaint: false,
             ground: 0.0,
             refine: 0.0,
+            flat_angle: None,
         }
     }
 }
@@ -457,6 +462,10 @@ fn placed_and_share(scene: &Scene, params: &GlyphParams) -> (Vec<(DVec2, Tensor,
         for (_, _, c) in &mut glyphs {
             *c = ground_and_glyph(params, *c, kappa).1;
         }
+    }
+    let at_samples = params.placement == Placement::Relaxed && scene.photo.is_some();
+    if let (Shape::Brush, true, Some(angle)) = (params.shape, at_samples, params.flat_angle) {
+        super::flat_strokes::lay_flat(scene, &mut glyphs, f64::from(angle).to_radians());
     }
     if params.shape == Shape::Brush {
         let area = |m: &Tensor| m.det().abs();

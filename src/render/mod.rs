@@ -23,6 +23,7 @@ mod edge_stop;
 pub mod engrave;
 mod engrave_tone;
 pub mod fabric;
+mod flat_strokes;
 pub mod font;
 mod frames;
 pub mod glyphs;

@@ -1,6 +1,7 @@
 //! Cells with no structure of their own, for the hatchings' flat angle (paper section 6: the
 //! texture follows the metric's long axis, and where the metric has no direction, Figure 6
-//! fades it; with a flat angle such cells are hatched at that angle instead, `frames.rs`).
+//! fades it; with a flat angle such cells are hatched at that angle instead, `frames.rs`) and
+//! the brush strokes of flat areas (`flat_strokes.rs`, by colour).
 //!
 //! The metric is integrated over about an ellipse (paper section 3), so a cell beside a thin
 //! mast, a wire or a face's contour in a plain sky or wall takes that structure's direction
@@ -29,6 +30,48 @@ pub const QUIET_STD: f64 = 3.0;
 /// for).
 #[must_use]
 pub(super) fn quiet_cells(cells: &VoronoiCells) -> Option<Vec<bool>> {
+    let sums = cell_sums(cells, |[r, g, b]| {
+        let luma = 0.299 * r + 0.587 * g + 0.114 * b;
+        [1.0, luma, luma * luma]
+    })?;
+    Some(
+        sums.iter()
+            .map(|&[n, sum, squares]| measurable(n) && spread(n, sum, squares) < QUIET_STD)
+            .collect(),
+    )
+}
+
+/// [`quiet_cells`] by colour: whether no channel of the cell's pixels has a standard
+/// deviation of [`QUIET_STD`] or more. A texture only the hue shows (two colours of one
+/// lightness) is structure the luma does not see.
+#[must_use]
+pub(super) fn quiet_colour_cells(cells: &VoronoiCells) -> Option<Vec<bool>> {
+    let sums = cell_sums(cells, |[r, g, b]| [1.0, r, g, b, r * r, g * g, b * b])?;
+    Some(
+        sums.iter()
+            .map(|s| measurable(s[0]) && (1..4).all(|k| spread(s[0], s[k], s[k + 3]) < QUIET_STD))
+            .collect(),
+    )
+}
+
+/// Whether a cell of `n` pixels has enough of them to measure a spread.
+fn measurable(n: f64) -> bool {
+    n >= 2.0
+}
+
+/// The standard deviation of `n` values from their sum and their squares' sum (0 where
+/// rounding makes the variance negative).
+fn spread(n: f64, sum: f64, squares: f64) -> f64 {
+    let mean = sum / n;
+    (squares / n - mean * mean).max(0.0).sqrt()
+}
+
+/// Per cell, the sums of `value` of the sRGB levels of every pixel of the blurred photo the
+/// colour term's cell map assigns it; `None` without that map at the photo's size.
+fn cell_sums<const N: usize>(
+    cells: &VoronoiCells,
+    value: impl Fn([f64; 3]) -> [f64; N] + Sync,
+) -> Option<Vec<[f64; N]>> {
     let term = cells.colour()?;
     let map = term.map.as_ref()?;
     let photo = term.photo();
@@ -37,22 +80,8 @@ pub(super) fn quiet_cells(cells: &VoronoiCells) -> Option<Vec<bool>> {
         return None;
     }
     let raw = photo.as_raw();
-    let sums = pixel_sums(cells, width, height, 1, |x, y| {
+    Some(pixel_sums(cells, width, height, 1, |x, y| {
         let i = 3 * (y * width + x);
-        let luma = 0.299 * f64::from(raw[i])
-            + 0.587 * f64::from(raw[i + 1])
-            + 0.114 * f64::from(raw[i + 2]);
-        [1.0, luma, luma * luma]
-    });
-    Some(
-        sums.iter()
-            .map(|&[n, sum, squares]| {
-                if n < 2.0 {
-                    return false;
-                }
-                let mean = sum / n;
-                squares / n - mean * mean < QUIET_STD * QUIET_STD
-            })
-            .collect(),
-    )
+        value([raw[i], raw[i + 1], raw[i + 2]].map(f64::from))
+    }))
 }

@@ -91,6 +91,8 @@ pub const MAX_ITERATIONS: usize = 10_000;
 const WIDTH_PX: (f32, f32) = (0.0, 50.0);
 /// The range of a share, a weight or an amount of 0 to 1.
 const UNIT: (f32, f32) = (0.0, 1.0);
+/// Range of angles in degrees.
+const ANGLE: (f32, f32) = (-360.0, 360.0);
 
 impl Preset {
     /// The metric parameters: defaults with the preset's keys.
@@ -251,6 +253,15 @@ impl Preset {
         )
     }
 
+    /// `look.flat_angle` (hatchings' lines and brush strokes where the field has no
+    /// direction; degrees), or `default`.
+    fn flat_angle(&self, default: Option<f32>) -> Result<Option<f32>> {
+        match self.file.look.flat_angle {
+            Some(a) => Ok(Some(ranged("look.flat_angle", Some(a), a, ANGLE)?)),
+            None => Ok(default),
+        }
+    }
+
     /// `look.gamma`, the ink looks' tone curve, or `default`.
     fn gamma(&self, default: f32) -> Result<f32> {
         ranged("look.gamma", self.file.look.gamma, default, (0.05, 20.0))
@@ -284,9 +295,7 @@ impl Preset {
             (0.0, 100.0),
         )?;
         p.border_width = self.border_width(p.border_width)?;
-        if let Some(a) = l.flat_angle {
-            p.flat_angle = Some(ranged("look.flat_angle", Some(a), a, (-360.0, 360.0))?);
-        }
+        p.flat_angle = self.flat_angle(p.flat_angle)?;
         p.cell_tone = l.cell_tone.unwrap_or(p.cell_tone);
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
@@ -374,6 +383,7 @@ impl Preset {
         p.underpaint = l.underpaint.unwrap_or(p.underpaint);
         p.ground = ranged("look.ground", l.ground, p.ground, UNIT)?;
         p.refine = ranged("look.refine", l.refine, p.refine, UNIT)?;
+        p.flat_angle = self.flat_angle(p.flat_angle)?;
         p.seed = self.sampler()?.seed;
         Ok(())
     }
@@ -389,12 +399,7 @@ impl Preset {
         p.min_spacing_px = self.min_spacing_px(p.min_spacing_px)?;
         p.gamma = self.gamma(p.gamma)?;
         p.edge_break = ranged("look.edge_break", l.edge_break, p.edge_break, (0.0, 10.0))?;
-        p.flat_angle = ranged(
-            "look.flat_angle",
-            l.flat_angle,
-            p.flat_angle,
-            (-360.0, 360.0),
-        )?;
+        p.flat_angle = ranged("look.flat_angle", l.flat_angle, p.flat_angle, ANGLE)?;
         p.tone = ranged("look.tone", l.tone, p.tone, UNIT)?;
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;

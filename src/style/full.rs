@@ -100,6 +100,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.underpaint = Some(p.underpaint);
             look.ground = Some(p.ground);
             look.refine = Some(p.refine);
+            look.flat_angle = p.flat_angle;
         }
         Look::Engraving(p) => {
             look.line_spacing = Some(p.line_spacing);

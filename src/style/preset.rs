@@ -132,7 +132,8 @@ pub struct LookSection {
     pub line_spacing: Option<f32>,
     /// Engraving: lightness step over one spacing along a line that breaks it.
     pub edge_break: Option<f32>,
-    /// Engraving: direction of the lines where the field has none (degrees).
+    /// Hatchings and engraving: direction of the lines where the field has none; brush
+    /// strokes: of the strokes across flat areas (degrees).
     pub flat_angle: Option<f32>,
     /// Hatch and cross-hatch over a photo: one tone per cell (the paper's), instead of the
     /// photo's tone point by point.
