@@ -26,7 +26,7 @@ use crate::render::outline::{
 };
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::outline_share::OutlineShare;
-use crate::render::{label_map, Look, Raster, RenderSize};
+use crate::render::{label_map, svg_photo, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
 use glam::DVec2;
@@ -298,30 +298,36 @@ fn add_svg_outlines(
     }
     let (w, h) = (size.width, size.height);
     let mask = outline_mask((&loaded.raw, lines), loaded.metric.domain(), (w, h), params);
-    // Every piece of the lines in the photo's mean colour under it, or in the ink, darkened
-    // where that mean is darker than the ink (as the raster darkens it per pixel).
-    let side = match params.ink {
-        OutlineInk::Colour(_) => usize::MAX,
-        OutlineInk::Pixel => PIXEL_INK_TILE,
-    };
-    let (labels, count) = outline_ink::pieces_in_tiles(&mask, w, h, side);
     let photo_ink = PhotoInk::new(photo, (w, h));
-    let means = outline_ink::piece_colours(&labels, count, &photo_ink, w);
-    let inks = match params.ink {
-        OutlineInk::Colour(ink) => {
-            let darker = outline_ink::DarkerInk::new(ink);
-            means
-                .iter()
-                .map(|m| {
-                    darker
-                        .under(m.map(f32::from))
-                        .map_or(ink, |c| c.map(|v| v.round().clamp(0.0, 255.0) as u8))
-                })
-                .collect()
+    let ink = match params.ink {
+        OutlineInk::Colour(ink) => ink,
+        OutlineInk::Pixel => {
+            // The photo itself inside the lines' shapes, as the raster lays it pixel by pixel.
+            let inked: Vec<i32> = mask.iter().map(|&m| if m != 0 { 0 } else { -1 }).collect();
+            let d = crate::render::svg::label_paths(&inked, w, h, 1);
+            let picture = RgbImage::from_fn(w as u32, h as u32, |x, y| {
+                let c = photo_ink.at(x as usize, y as usize);
+                image::Rgb(c.map(|v| v.round().clamp(0.0, 255.0) as u8))
+            });
+            let shapes = svg_photo::photo_in_shapes(&d[0], &picture, params.strength, "rigger");
+            insert_before_end(svg, &shapes);
+            return;
         }
-        OutlineInk::Pixel => means,
     };
-    let inks: Vec<([u8; 3], f32)> = inks.into_iter().map(|c| (c, params.strength)).collect();
+    // Every piece of the lines in the ink, darkened where the photo's mean colour under it is
+    // darker than the ink (as the raster darkens it per pixel).
+    let (labels, count) = outline_ink::pieces(&mask, w, h);
+    let means = outline_ink::piece_colours(&labels, count, &photo_ink, w);
+    let darker = outline_ink::DarkerInk::new(ink);
+    let inks: Vec<([u8; 3], f32)> = means
+        .iter()
+        .map(|m| {
+            let c = darker
+                .under(m.map(f32::from))
+                .map_or(ink, |c| c.map(|v| v.round().clamp(0.0, 255.0) as u8));
+            (c, params.strength)
+        })
+        .collect();
     insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
 }
 
@@ -364,10 +370,6 @@ fn add_svg_highlights(
         .collect();
     insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
 }
-
-/// Side in pixels of the tiles that cut the outlines in the photo's own colour into pieces
-/// for the SVG, each filled at its mean colour ([`outline_ink::pieces_in_tiles`]).
-const PIXEL_INK_TILE: usize = 4;
 
 /// Where the highlights' map is traced for the SVG ([`add_svg_highlights`]).
 const HIGHLIGHT_TRACE: f32 = 0.25;

@@ -5,11 +5,10 @@
 //! is a quarter of a stroke). The line map says where; this file says in what colour.
 //!
 //! The photo is read bilinearly in 8-bit sRGB at every picture pixel's centre (clamped at the
-//! photo's edges), `f32`; at the photo's own size that is the pixel itself. For the SVG, every
-//! connected piece of the outlines' mask (in the photo's own colour, cut at the borders of
-//! small tiles) takes the mean photo colour over its pixels. One ink
-//! is no lighter than the photo under it ([`DarkerInk`]; in the SVG, per piece of line, over
-//! its mean photo colour).
+//! photo's edges), `f32`; at the photo's own size that is the pixel itself. The SVG shows that
+//! photo inside the outlines' traced shapes (`svg_photo.rs`). One ink is no lighter than the
+//! photo under it ([`DarkerInk`]; in the SVG, per connected piece of line, over its mean photo
+//! colour).
 
 use super::colour::{bilinear, linear_of, rgb8, to_srgb, Linear};
 use glam::DVec2;
@@ -84,21 +83,6 @@ impl<'a> PhotoInk<'a> {
 /// −1 elsewhere; and the number of pieces.
 #[must_use]
 pub fn pieces(mask: &[i32], width: usize, height: usize) -> (Vec<i32>, usize) {
-    pieces_in_tiles(mask, width, height, usize::MAX)
-}
-
-/// [`pieces`] cut at the borders of square tiles of `side` pixels: the pieces of the photo's
-/// own colour, each of which takes one mean colour in the SVG, stay as local as the colour
-/// they stand for (a lattice tower's lines, one piece from top to bottom, change colour from a
-/// dark sky to a lit base).
-#[must_use]
-pub fn pieces_in_tiles(
-    mask: &[i32],
-    width: usize,
-    height: usize,
-    side: usize,
-) -> (Vec<i32>, usize) {
-    let side = side.max(1);
     let mut labels = vec![-1i32; width * height];
     let mut count = 0usize;
     let mut stack = Vec::new();
@@ -113,10 +97,10 @@ pub fn pieces_in_tiles(
         while let Some(i) = stack.pop() {
             let (x, y) = (i % width, i / width);
             let neighbours = [
-                (x % side > 0).then(|| i - 1),
-                (x + 1 < width && (x + 1) % side > 0).then(|| i + 1),
-                (y % side > 0).then(|| i - width),
-                (y + 1 < height && (y + 1) % side > 0).then(|| i + width),
+                (x > 0).then(|| i - 1),
+                (x + 1 < width).then(|| i + 1),
+                (y > 0).then(|| i - width),
+                (y + 1 < height).then(|| i + width),
             ];
             for j in neighbours.into_iter().flatten() {
                 if mask[j] != 0 && labels[j] < 0 {
@@ -232,20 +216,6 @@ mod tests {
             -1, 0, -1, 1,
             2, -1, -1, -1,
         ]);
-    }
-
-    #[test]
-    fn pieces_are_cut_at_tile_borders() {
-        // A 10 × 5 band, all inked, in tiles of 4: tiles x 0-3, 4-7, 8-9 by y 0-3, 4.
-        let mask = [1; 50];
-        let (labels, count) = pieces_in_tiles(&mask, 10, 5, 4);
-        assert_eq!(count, 6);
-        let label = |x: usize, y: usize| labels[y * 10 + x];
-        assert_eq!(label(0, 0), label(3, 3));
-        assert_ne!(label(3, 0), label(4, 0));
-        assert_ne!(label(0, 3), label(0, 4));
-        assert_eq!(label(8, 4), label(9, 4));
-        assert_eq!(pieces(&mask, 10, 5).1, 1, "uncut, one piece");
     }
 
     #[test]

@@ -375,18 +375,11 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
 /// its opacity (`inks` holds colour and opacity per label).
 #[must_use]
 pub fn outlines(labels: &[i32], width: usize, height: usize, inks: &[([u8; 3], f32)]) -> String {
-    let borders = Borders::trace(labels, width, height);
-    let simplified: Vec<Vec<[f32; 2]>> = borders
-        .chains
-        .iter()
-        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
-        .collect();
     let mut out = String::new();
-    for (ring_set, &(ink, opacity)) in rings(&borders, &simplified, inks.len()).iter().zip(inks) {
-        let mut d = String::new();
-        for ring in ring_set {
-            path_data(&mut d, ring, true);
-        }
+    for (d, &(ink, opacity)) in label_paths(labels, width, height, inks.len())
+        .iter()
+        .zip(inks)
+    {
         if !d.is_empty() {
             let _ = writeln!(
                 out,
@@ -397,6 +390,29 @@ pub fn outlines(labels: &[i32], width: usize, height: usize, inks: &[([u8; 3], f
         }
     }
     out
+}
+
+/// The path data (even-odd rings) of each of the `count` labels of `labels` (output pixels,
+/// row-major, −1 for none), traced and simplified like the cells; empty for a label with no
+/// pixels.
+#[must_use]
+pub fn label_paths(labels: &[i32], width: usize, height: usize, count: usize) -> Vec<String> {
+    let borders = Borders::trace(labels, width, height);
+    let simplified: Vec<Vec<[f32; 2]>> = borders
+        .chains
+        .iter()
+        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
+        .collect();
+    rings(&borders, &simplified, count)
+        .iter()
+        .map(|ring_set| {
+            let mut d = String::new();
+            for ring in ring_set {
+                path_data(&mut d, ring, true);
+            }
+            d
+        })
+        .collect()
 }
 
 /// Appends the lines `n·q = k·spacing` (n the normal of direction `angle`, q in domain units)
