@@ -192,6 +192,9 @@ pub(super) struct Dab {
     factors: [f32; 3],
     /// Its one colour, where no edge cuts it.
     colour: Linear,
+    /// Per channel, the photo's values whose square roots are within [`DAB_EDGE`]`.0` of
+    /// `roots` (lowest, highest): where every channel is, no edge cuts the dab.
+    uncut: [[f32; 2]; 3],
 }
 
 impl Dab {
@@ -209,12 +212,15 @@ impl Dab {
         let hue = DOT_HUE_JITTER * saturation;
         let keep = 1.0 - darken;
         let factors: [f32; 3] = std::array::from_fn(|i| light * (1.0 + hue * spread(i + 1)));
+        let roots = flat.map(|v| v.max(0.0).sqrt());
+        let edge = DAB_EDGE.0;
         Dab {
             flat,
-            roots: flat.map(|v| v.max(0.0).sqrt()),
+            roots,
             keep,
             factors,
             colour: std::array::from_fn(|i| (flat[i] * keep * factors[i]).clamp(0.0, 1.0)),
+            uncut: roots.map(|r| [(r - edge).max(0.0).powi(2), (r + edge).powi(2)]),
         }
     }
 
@@ -226,6 +232,13 @@ impl Dab {
     /// [`DAB_EDGE`]`.0`, the photo's own from [`DAB_EDGE`]`.1` on, linear between.
     #[must_use]
     pub(super) fn colour_over(&self, here: Linear) -> Linear {
+        // Most points of a dab: no square root needed to know no edge cuts it there. (Where
+        // rounding puts a point on the other side of the band's end than the roots would,
+        // both ways give the dab's colour to far under a level: the 12 MP pointillist is the
+        // same picture, 5 % faster.)
+        if (0..3).all(|k| here[k] >= self.uncut[k][0] && here[k] <= self.uncut[k][1]) {
+            return self.colour;
+        }
         let diff = (0..3)
             .map(|k| (self.roots[k] - here[k].max(0.0).sqrt()).abs())
             .fold(0.0f32, f32::max);
@@ -401,6 +414,49 @@ mod tests {
             dab_colour(3, centre, [0.2; 3], 0.0),
             dab.colour_over([0.21; 3])
         );
+    }
+
+    #[test]
+    fn the_uncut_band_gives_what_the_square_roots_give() {
+        // The definition, with a square root per channel at every point.
+        let by_roots = |dab: &Dab, here: Linear| -> Linear {
+            let diff = (0..3)
+                .map(|k| (dab.roots[k] - here[k].max(0.0).sqrt()).abs())
+                .fold(0.0f32, f32::max);
+            let (lo, hi) = DAB_EDGE;
+            if diff <= lo {
+                return dab.colour;
+            }
+            let t = ((diff - lo) * (1.0 / (hi - lo))).min(1.0);
+            std::array::from_fn(|i| {
+                let under = dab.flat[i] + (here[i] - dab.flat[i]) * t;
+                (under * dab.keep * dab.factors[i]).clamp(0.0, 1.0)
+            })
+        };
+        let levels = [0.0f32, 0.001, 0.003, 0.02, 0.1, 0.2, 0.35, 0.5, 0.8, 1.0];
+        let mut cut = 0;
+        for (n, &a) in levels.iter().enumerate() {
+            for &b in &levels {
+                let dab = Dab::new(n as u32, DVec2::new(0.3, 0.7), [a, b, 0.4], 0.1);
+                for &x in &levels {
+                    for &y in &levels {
+                        // Points near the band's ends too: each level nudged a little.
+                        for nudge in [-0.0005f32, 0.0, 0.0005] {
+                            let here = [x + nudge, y, 0.4 + nudge];
+                            let (got, want) = (dab.colour_over(here), by_roots(&dab, here));
+                            let diff = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0, f32::max);
+                            assert!(
+                                diff < 1e-5,
+                                "{:?} over {here:?}: {got:?} {want:?}",
+                                dab.flat
+                            );
+                            cut += usize::from(want != dab.colour);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(cut > 1000, "edges cut the dabs at {cut} points");
     }
 
     #[test]
