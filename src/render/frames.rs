@@ -109,42 +109,56 @@ pub(super) fn cell_frames(
     frames
 }
 
-/// Every cell's anisotropy as far as its neighbourhood bears it out: the length of the mean
-/// of the doubled-angle vectors `a·(cos 2θ, sin 2θ)` (`a` the anisotropy `1 − b/a`) of the
-/// cell, counted [`SELF_WEIGHT`] times, and of the cells it touches (`neighbours`, each pair
-/// once). Along an edge, a chain of cells that share a direction keeps most of its own; a cell
-/// long only by the grain of a plain (the fundus photo's orange, a brick's face), among round
+/// Every cell's anisotropy as far as its neighbourhood bears it out: the doubled-angle
+/// vectors `a·(cos 2θ, sin 2θ)` (`a` the anisotropy `1 − b/a`) averaged over the cell,
+/// counted [`SELF_WEIGHT`] times, and the cells it touches (`neighbours`, each pair once),
+/// then those means averaged the same way again (two rings of cells), and the result's length.
+/// Along an edge, a chain of cells that share a direction keeps much of its own; a cell long
+/// only by the grain of a plain (the fundus photo's orange, a brick's face), among round
 /// cells or cells turned every way, keeps little. Hatched in its own direction, such a cell was
-/// a patch of lines at a random angle in the plain's even hatching.
+/// a patch of lines at a random angle in the plain's even hatching. Over one ring, patches of a
+/// few cells that a texture's stains or fur happened to turn one way (a concrete floor) still
+/// were patches; over two, `tone.py` on 22 pictures (seed 7): pen-hatch 36.57 → 36.80 dB,
+/// SSIM 0.9706 → 0.9727, edge recall 0.9228 → 0.9253; crosshatch 37.02 → 37.18 dB, 0.9731 →
+/// 0.9748, 0.9298 → 0.9307; no picture below −0.06 dB (coins +0.77, gravel +0.66, grass
+/// +0.62, the cat +0.53 dB).
 fn directed_anisotropy(frames: &[Frame], neighbours: &[[u32; 2]]) -> Vec<f32> {
-    let vector = |f: &Frame| {
-        let (s, c) = (2.0 * f.angle).sin_cos();
-        [f64::from(f.anisotropy) * c, f64::from(f.anisotropy) * s]
-    };
-    let mut sums: Vec<([f64; 2], f64)> = frames
+    let own: Vec<[f64; 2]> = frames
         .iter()
         .map(|f| {
-            let v = vector(f);
-            ([SELF_WEIGHT * v[0], SELF_WEIGHT * v[1]], SELF_WEIGHT)
+            let (s, c) = (2.0 * f.angle).sin_cos();
+            [f64::from(f.anisotropy) * c, f64::from(f.anisotropy) * s]
         })
+        .collect();
+    let twice = ring_means(&ring_means(&own, neighbours), neighbours);
+    twice
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt() as f32)
+        .collect()
+}
+
+/// Every cell's `vectors` averaged with those of the cells it touches (`neighbours`, each
+/// pair once), its own counted [`SELF_WEIGHT`] times.
+fn ring_means(vectors: &[[f64; 2]], neighbours: &[[u32; 2]]) -> Vec<[f64; 2]> {
+    let mut sums: Vec<([f64; 2], f64)> = vectors
+        .iter()
+        .map(|v| ([SELF_WEIGHT * v[0], SELF_WEIGHT * v[1]], SELF_WEIGHT))
         .collect();
     for &[a, b] in neighbours {
         for (i, j) in [(a, b), (b, a)] {
-            let v = vector(&frames[j as usize]);
+            let v = vectors[j as usize];
             let s = &mut sums[i as usize];
             s.0[0] += v[0];
             s.0[1] += v[1];
             s.1 += 1.0;
         }
     }
-    sums.iter()
-        .map(|(v, n)| ((v[0] * v[0] + v[1] * v[1]).sqrt() / n) as f32)
-        .collect()
+    sums.iter().map(|(v, n)| [v[0] / n, v[1] / n]).collect()
 }
 
-/// How many times a cell's own direction counts in [`directed_anisotropy`]: with 2, a cell of
-/// an edge's chain (two neighbours along it, the rest round) keeps two thirds of its
-/// anisotropy.
+/// How many times a cell's own direction counts in [`directed_anisotropy`]'s means: with 2,
+/// a cell of an edge's chain (two neighbours along it, the rest round) keeps two thirds of
+/// its anisotropy over one ring.
 const SELF_WEIGHT: f64 = 2.0;
 
 /// The rung (a whole octave) of every flat cell (`octaves[i]`, log₂ of its short axis, is
@@ -327,6 +341,44 @@ mod tests {
         for (i, f) in frames[grain as usize..].iter().enumerate() {
             assert_eq!(f.angle, FLAT.angle, "grain cell {i}");
         }
+    }
+
+    #[test]
+    fn a_patch_that_grain_turned_one_way_is_hatched_flat() {
+        // A 9 x 9 grid of slightly long cells (a/b = 1.47, over `below`) turned by a right
+        // angle from each one to the next, as noise turns them, but for a 3 x 3 patch in its
+        // middle that the grain happened to turn one way (a concrete floor's stain): hatched
+        // along it, the patch was a square of lines at its own angle in the floor's even
+        // hatching.
+        let (n, patch) = (9u32, 3..6u32);
+        let mut metrics = Vec::new();
+        let mut touching = Vec::new();
+        for r in 0..n {
+            for c in 0..n {
+                let angle = if patch.contains(&r) && patch.contains(&c) {
+                    0.7
+                } else if (r + c) % 2 == 0 {
+                    0.0
+                } else {
+                    FRAC_PI_2
+                };
+                metrics.push(Tensor::from_eigen(angle, 4.4, 3.0));
+                let i = r * n + c;
+                if c > 0 {
+                    touching.push([i - 1, i]);
+                }
+                if r > 0 {
+                    touching.push([i - n, i]);
+                }
+            }
+        }
+        let frames = cell_frames(&metrics, &touching, Some(FLAT), None);
+        let kept: Vec<u32> = (0..n * n)
+            .filter(|&i| frames[i as usize].angle != FLAT.angle)
+            .collect();
+        // All but the patch's middle cell, whose whole first ring shares its direction (over
+        // one ring, the middle and the four cells beside it kept theirs: a cross of lines).
+        assert_eq!(kept, [4 * n + 4], "cells hatched their own way");
     }
 
     #[test]
