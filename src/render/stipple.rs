@@ -239,6 +239,11 @@ impl Dab {
         if (0..3).all(|k| here[k] >= self.uncut[k][0] && here[k] <= self.uncut[k][1]) {
             return self.colour;
         }
+        self.colour_by_roots(here)
+    }
+
+    /// [`Self::colour_over`] by its definition: a square root per channel at every point.
+    fn colour_by_roots(&self, here: Linear) -> Linear {
         let diff = (0..3)
             .map(|k| (self.roots[k] - here[k].max(0.0).sqrt()).abs())
             .fold(0.0f32, f32::max);
@@ -418,21 +423,6 @@ mod tests {
 
     #[test]
     fn the_uncut_band_gives_what_the_square_roots_give() {
-        // The definition, with a square root per channel at every point.
-        let by_roots = |dab: &Dab, here: Linear| -> Linear {
-            let diff = (0..3)
-                .map(|k| (dab.roots[k] - here[k].max(0.0).sqrt()).abs())
-                .fold(0.0f32, f32::max);
-            let (lo, hi) = DAB_EDGE;
-            if diff <= lo {
-                return dab.colour;
-            }
-            let t = ((diff - lo) * (1.0 / (hi - lo))).min(1.0);
-            std::array::from_fn(|i| {
-                let under = dab.flat[i] + (here[i] - dab.flat[i]) * t;
-                (under * dab.keep * dab.factors[i]).clamp(0.0, 1.0)
-            })
-        };
         let levels = [0.0f32, 0.001, 0.003, 0.02, 0.1, 0.2, 0.35, 0.5, 0.8, 1.0];
         let mut cut = 0;
         for (n, &a) in levels.iter().enumerate() {
@@ -443,7 +433,7 @@ mod tests {
                         // Points near the band's ends too: each level nudged a little.
                         for nudge in [-0.0005f32, 0.0, 0.0005] {
                             let here = [x + nudge, y, 0.4 + nudge];
-                            let (got, want) = (dab.colour_over(here), by_roots(&dab, here));
+                            let (got, want) = (dab.colour_over(here), dab.colour_by_roots(here));
                             let diff = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0, f32::max);
                             assert!(
                                 diff < 1e-5,
