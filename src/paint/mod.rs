@@ -26,7 +26,7 @@ use crate::render::outline::{
 };
 use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
 use crate::render::outline_share::OutlineShare;
-use crate::render::{label_map, svg_photo, Look, Raster, RenderSize};
+use crate::render::{label_map, svg_outlines, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
 use glam::DVec2;
@@ -304,12 +304,12 @@ fn add_svg_outlines(
         OutlineInk::Pixel => {
             // The photo itself inside the lines' shapes, as the raster lays it pixel by pixel.
             let inked: Vec<i32> = mask.iter().map(|&m| if m != 0 { 0 } else { -1 }).collect();
-            let d = crate::render::svg::label_paths(&inked, w, h, 1);
+            let d = svg_outlines::label_paths(&inked, w, h, 1);
             let picture = RgbImage::from_fn(w as u32, h as u32, |x, y| {
                 let c = photo_ink.at(x as usize, y as usize);
                 image::Rgb(c.map(|v| v.round().clamp(0.0, 255.0) as u8))
             });
-            let shapes = svg_photo::photo_in_shapes(&d[0], &picture, params.strength, "rigger");
+            let shapes = svg_outlines::photo_in_shapes(&d[0], &picture, params.strength, "rigger");
             insert_before_end(svg, &shapes);
             return;
         }
@@ -328,7 +328,7 @@ fn add_svg_outlines(
             (c, params.strength)
         })
         .collect();
-    insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
+    insert_before_end(svg, &svg_outlines::outlines(&labels, w, h, &inks));
 }
 
 /// Adds the highlights' vector form over the look in `svg`: `map`, the highlights' map on
@@ -368,7 +368,7 @@ fn add_svg_highlights(
         .iter()
         .map(|&(sum, n)| (paper, params.strength * (sum / f64::from(n.max(1))) as f32))
         .collect();
-    insert_before_end(svg, &crate::render::svg::outlines(&labels, w, h, &inks));
+    insert_before_end(svg, &svg_outlines::outlines(&labels, w, h, &inks));
 }
 
 /// Where the highlights' map is traced for the SVG ([`add_svg_highlights`]).

@@ -50,7 +50,7 @@ pub mod streamlines;
 mod stripes;
 pub mod sums;
 pub mod svg;
-pub mod svg_photo;
+pub mod svg_outlines;
 pub mod texture;
 pub mod trace;
 pub mod voronoi;

@@ -6,7 +6,7 @@
 //!
 //! The photo is read bilinearly in 8-bit sRGB at every picture pixel's centre (clamped at the
 //! photo's edges), `f32`; at the photo's own size that is the pixel itself. The SVG shows that
-//! photo inside the outlines' traced shapes (`svg_photo.rs`). One ink is no lighter than the
+//! photo inside the outlines' traced shapes (`svg_outlines.rs`). One ink is no lighter than the
 //! photo under it ([`DarkerInk`]; in the SVG, per connected piece of line, over its mean photo
 //! colour).
 

@@ -8,7 +8,7 @@
 //! stipple becomes the raster's dots as circles of its radii, clipped to each cell; the
 //! engraving its lines as filled outlines whose width follows the tone; the other textured
 //! looks become their cells' mean tone of ink on paper. The outlines over a photo's look are
-//! traced from where they ink at least half a pixel ([`outlines`]).
+//! traced from where they ink at least half a pixel ([`outlines`](super::svg_outlines::outlines)).
 //! Fabric and LIC are images of noise and have no vector form.
 //!
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
@@ -95,7 +95,8 @@ pub(super) fn svg_of_laid(
     Ok(out)
 }
 
-fn hex(c: Linear) -> String {
+/// `c` as `#rrggbb`.
+pub(super) fn hex(c: Linear) -> String {
     let [r, g, b] = c.map(to_srgb);
     format!("#{r:02x}{g:02x}{b:02x}")
 }
@@ -369,52 +370,6 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     }
 }
 
-/// The outlines as vector shapes, to go over a look's SVG: `labels` (output pixels,
-/// row-major: where the outlines' ink is at least half, the index of the ink in `inks`, −1
-/// elsewhere) traced and simplified like the cells, each label's shapes filled with its ink at
-/// its opacity (`inks` holds colour and opacity per label).
-#[must_use]
-pub fn outlines(labels: &[i32], width: usize, height: usize, inks: &[([u8; 3], f32)]) -> String {
-    let mut out = String::new();
-    for (d, &(ink, opacity)) in label_paths(labels, width, height, inks.len())
-        .iter()
-        .zip(inks)
-    {
-        if !d.is_empty() {
-            let _ = writeln!(
-                out,
-                "<path fill=\"{}\" fill-opacity=\"{}\" fill-rule=\"evenodd\" d=\"{d}\"/>",
-                hex(linear_of(ink)),
-                opacity.clamp(0.0, 1.0)
-            );
-        }
-    }
-    out
-}
-
-/// The path data (even-odd rings) of each of the `count` labels of `labels` (output pixels,
-/// row-major, −1 for none), traced and simplified like the cells; empty for a label with no
-/// pixels.
-#[must_use]
-pub fn label_paths(labels: &[i32], width: usize, height: usize, count: usize) -> Vec<String> {
-    let borders = Borders::trace(labels, width, height);
-    let simplified: Vec<Vec<[f32; 2]>> = borders
-        .chains
-        .iter()
-        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
-        .collect();
-    rings(&borders, &simplified, count)
-        .iter()
-        .map(|ring_set| {
-            let mut d = String::new();
-            for ring in ring_set {
-                path_data(&mut d, ring, true);
-            }
-            d
-        })
-        .collect()
-}
-
 /// Appends the lines `n·q = k·spacing` (n the normal of direction `angle`, q in domain units)
 /// that cross the bounding box of `rings` (output pixels), as segments in output pixels.
 fn family(d: &mut String, rings: &[Vec<[f32; 2]>], angle: f64, spacing: f64, scale: (f64, f64)) {
@@ -449,7 +404,7 @@ fn family(d: &mut String, rings: &[Vec<[f32; 2]>], angle: f64, spacing: f64, sca
 }
 
 /// Appends `M x y x y … [Z]` for `points`.
-fn path_data(d: &mut String, points: &[[f32; 2]], close: bool) {
+pub(super) fn path_data(d: &mut String, points: &[[f32; 2]], close: bool) {
     for (k, p) in points.iter().enumerate() {
         let _ = write!(
             d,

@@ -1,14 +1,65 @@
-//! The photo itself inside traced shapes of an SVG: outlines drawn in the photo's own colour,
-//! pixel by pixel (a rigger brush, `look.outline_ink = "pixel"`), are their traced shapes
-//! clipping an embedded copy of the photo at the picture's size, so the vector form shows the
-//! colours the raster lays. Filled instead with one mean colour per piece, the pieces had to
-//! be cut into 4 px tiles to keep a lattice tower's colour local, and every wide stretch of
-//! line (an ear, a hairline, a lit rim) showed those tiles as squares.
+//! The outlines' vector form, to go over a look's SVG: the line map's pieces traced and
+//! simplified like the cells, filled in one ink each ([`outlines`]); or, for outlines drawn in
+//! the photo's own colour pixel by pixel (a rigger brush, `look.outline_ink = "pixel"`), their
+//! traced shapes clipping an embedded copy of the photo at the picture's size
+//! ([`photo_in_shapes`]), so the vector form shows the colours the raster lays. Filled instead
+//! with one mean colour per piece, the pieces had to be cut into 4 px tiles to keep a lattice
+//! tower's colour local, and every wide stretch of line (an ear, a hairline, a lit rim)
+//! showed those tiles as squares.
 //!
 //! The copy is a PNG (RGB, 8 bits) in a `data:` URI, base64 as RFC 4648 writes it.
 
+use super::colour::linear_of;
+use super::svg::{hex, path_data, TRACE_TOLERANCE_PX};
+use super::trace::{rings, simplify, Borders};
 use image::{ImageEncoder, RgbImage};
 use std::fmt::Write as _;
+
+/// The outlines as vector shapes, to go over a look's SVG: `labels` (output pixels,
+/// row-major: where the outlines' ink is at least half, the index of the ink in `inks`, −1
+/// elsewhere) traced and simplified like the cells, each label's shapes filled with its ink at
+/// its opacity (`inks` holds colour and opacity per label).
+#[must_use]
+pub fn outlines(labels: &[i32], width: usize, height: usize, inks: &[([u8; 3], f32)]) -> String {
+    let mut out = String::new();
+    for (d, &(ink, opacity)) in label_paths(labels, width, height, inks.len())
+        .iter()
+        .zip(inks)
+    {
+        if !d.is_empty() {
+            let _ = writeln!(
+                out,
+                "<path fill=\"{}\" fill-opacity=\"{}\" fill-rule=\"evenodd\" d=\"{d}\"/>",
+                hex(linear_of(ink)),
+                opacity.clamp(0.0, 1.0)
+            );
+        }
+    }
+    out
+}
+
+/// The path data (even-odd rings) of each of the `count` labels of `labels` (output pixels,
+/// row-major, −1 for none), traced and simplified like the cells; empty for a label with no
+/// pixels.
+#[must_use]
+pub fn label_paths(labels: &[i32], width: usize, height: usize, count: usize) -> Vec<String> {
+    let borders = Borders::trace(labels, width, height);
+    let simplified: Vec<Vec<[f32; 2]>> = borders
+        .chains
+        .iter()
+        .map(|c| simplify(&c.points, TRACE_TOLERANCE_PX))
+        .collect();
+    rings(&borders, &simplified, count)
+        .iter()
+        .map(|ring_set| {
+            let mut d = String::new();
+            for ring in ring_set {
+                path_data(&mut d, ring, true);
+            }
+            d
+        })
+        .collect()
+}
 
 /// An SVG fragment: `photo` (the picture's size, at the origin) shown only inside the shapes
 /// of the path data `d` (even-odd rings, output pixels), at `opacity`. `id` names the clip
