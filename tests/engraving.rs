@@ -10,7 +10,8 @@
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
 use anisopaint::progress::Silent;
-use anisopaint::render::streamlines::{streamlines, Directions, LineLayout, Streamline};
+use anisopaint::render::line_field::Directions;
+use anisopaint::render::streamlines::{streamlines, LineLayout, Streamline};
 use glam::DVec2;
 use image::{DynamicImage, RgbImage};
 
@@ -437,7 +438,7 @@ fn lines_over(photo: RgbImage) -> (Directions, Vec<Streamline>) {
         flat_angle: 90f64.to_radians(),
         edge_break: f32::INFINITY,
     };
-    let directions = Directions::new(&loaded.metric, layout.flat_angle, layout.d_sep);
+    let directions = Directions::of_photo(&loaded.metric, layout.flat_angle, layout.d_sep);
     let lines = streamlines(&directions, &|_| 0.5, DVec2::new(w, h), &layout, &[]);
     (directions, lines)
 }

@@ -32,8 +32,9 @@
 //! Coverage is `f32`, geometry `f64` in domain units until it is scaled to output pixels.
 
 use super::engrave_tone::{DeeperInk, LineShares, Tone, ToneReader};
+use super::line_field::Directions;
 use super::scene::Scene;
-use super::streamlines::{normal_at, streamlines, Directions, LineLayout, Streamline};
+use super::streamlines::{normal_at, streamlines, LineLayout, Streamline};
 use super::stripes::band_coverage;
 use super::texture::BLACK_INK;
 use crate::field::blur::round_to_byte;
@@ -164,7 +165,11 @@ fn engrave_in(
             f32::INFINITY
         },
     };
-    let directions = Directions::new(scene.field, layout.flat_angle, d_sep);
+    let directions = if tone.is_some() {
+        Directions::of_photo(scene.field, layout.flat_angle, d_sep)
+    } else {
+        Directions::new(scene.field, layout.flat_angle, d_sep)
+    };
     let lines = streamlines(
         &directions,
         &lightness_at,

@@ -29,6 +29,7 @@ mod frames;
 pub mod glyphs;
 pub mod highlights;
 mod lic_grid;
+pub mod line_field;
 mod local_tone;
 pub mod look;
 pub mod mosaic;
