@@ -271,7 +271,7 @@ fn brush_stroke_svg_looks_like_the_png() {
     // within 12 levels (95.6 % when the SVG filled each piece of line in a 4 px tile at its
     // mean colour; 94.8 % with the lines left out, as a renderer without raster images
     // draws it); with every stroke drawn once and no detail strokes (the SVG before), 83.3 %.
-    assert!(text.contains("clip-path=\"url(#rigger)\" href=\"data:image/png;base64,"));
+    assert!(text.contains("clip-path=\"url(#rigger)\" xlink:href=\"data:image/png;base64,"));
     let tone = tone_difference(&png, &svg);
     assert!(tone < 0.008, "tone differs by {tone:.4}");
     let close = close_fraction(&png, &svg, 12);

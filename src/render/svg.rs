@@ -53,7 +53,9 @@ pub(super) fn svg_of_laid(
     let mut out = String::new();
     let _ = writeln!(
         out,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#,
+        // `xlink` for the embedded photo's `xlink:href`, which SVG 1.1 renderers (Inkscape
+        // 0.92, librsvg before 2.52) read where they ignore SVG 2's plain `href`.
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#,
         w = r.width,
         h = r.height
     );

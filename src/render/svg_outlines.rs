@@ -87,7 +87,7 @@ pub fn photo_in_shapes(d: &str, photo: &RgbImage, opacity: f32, id: &str) -> Str
     let _ = writeln!(
         out,
         "<image x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" preserveAspectRatio=\"none\" \
-         opacity=\"{}\" clip-path=\"url(#{id})\" href=\"data:image/png;base64,{}\"/>",
+         opacity=\"{}\" clip-path=\"url(#{id})\" xlink:href=\"data:image/png;base64,{}\"/>",
         photo.width(),
         photo.height(),
         opacity.clamp(0.0, 1.0),
