@@ -24,7 +24,7 @@ const FLAT_WEIGHT: f64 = 0.04;
 /// times the line spacing, added with [`COARSE_WEIGHT`]. Where the field is strongly
 /// anisotropic the fine tensors outweigh it and the lines keep to the form.
 const COARSE_SIGMA: f32 = 6.0;
-/// Weight of the wide neighbourhood's direction tensors against the fine ones. On the five
+/// Weight of the coarse neighbourhood's direction tensors against the fine ones. On the five
 /// shared photos and six of scikit-image's (seed 7, `tone.py`), 0 → 2: blurred SSIM up on ten
 /// of eleven (camera 0.796 → 0.820, brick 0.766 → 0.801, a rocket under a night sky 0.693 → 0.723),
 /// the lines in flat and dark areas long and calm instead of swirling with the grain; edge
@@ -51,6 +51,7 @@ const WIDE_WEIGHT: f32 = 2.0;
 const FINE_HOLDS_OVER: f32 = 3.0;
 /// [`FINE_HOLDS_OVER`] for the coarse direction's tensors (twice their own reach).
 const COARSE_HOLDS_OVER: f32 = 2.0 * COARSE_SIGMA;
+
 /// A smooth line field: at every point the direction the lines run in.
 pub struct Directions {
     nodes: TensorField,
