@@ -8,8 +8,9 @@
 //! of the picture take leading narrowed in proportion ([`leading_widths`], shared with the
 //! SVG), so small type and fine detail stay readable. The glass is lifted by the share of the
 //! cell its leading covers (`lit_through_leading`), so the picture seen from afar keeps the
-//! photo's tones. Relief lights each cell as a dome `1 − δ_i²` from the upper left (GEGL's
-//! mosaic has a bevel of the same kind), its slope from one vector per cell (`dome_tilts`).
+//! photo's tones. Relief lights each cell as a dome `1 − δ_i²` over its ellipse from the upper
+//! left (GEGL's mosaic has a bevel of the same kind), its slope linear in the position, from
+//! one vector per cell (`dome_tilts`).
 //! Shading is `f32` in linear light.
 
 use super::colour::{mix, salt, site_hash, Linear};
@@ -64,26 +65,23 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
     let (leading, colours) = glass(scene, params, width);
-    // The cell's colour with its relief at `p`, from the site's `δ²` there.
-    let inside = |p: DVec2, delta_squared: f64, o: &Owner| {
-        let mut c = colours[o.site as usize];
+    // The cell's colour with its relief at `p`: the dome's slope towards the light there.
+    let inside = |p: DVec2, site: u32| {
+        let mut c = colours[site as usize];
         if let Some(tilts) = &tilts {
-            let site = o.site as usize;
+            let site = site as usize;
             let d = p - scene.cells.positions()[site];
-            if delta_squared > 0.0 {
-                let slope =
-                    (-2.0 * f64::from(o.delta) * d.dot(tilts[site]) / delta_squared.sqrt()) as f32;
-                let k = (1.0 + params.relief * 0.5 * slope).clamp(0.0, 2.0);
-                c = c.map(|v| (v * k).clamp(0.0, 1.0));
-            }
+            let slope = (-2.0 * d.dot(tilts[site])) as f32;
+            let k = (1.0 + params.relief * 0.5 * slope).clamp(0.0, 2.0);
+            c = c.map(|v| (v * k).clamp(0.0, 1.0));
         }
         c
     };
     // Pixels the cell map settles have no border near: no ink (`border_coverage` is 0).
-    scene.shade_settled(
+    scene.shade_settled_by_site(
         (width, Average::Linear),
         |p, o| {
-            let c = inside(p, scene.cells.delta_squared(o.site, p), o);
+            let c = inside(p, o.site);
             if width > 0.0 {
                 let second = leading.get(o.second as usize).copied().unwrap_or(width);
                 let w = leading[o.site as usize].min(second);
@@ -231,11 +229,12 @@ fn median_by_area(axes: &[(f64, f64)]) -> f64 {
 }
 
 /// Per cell, the vector `Q l r` that gives the relief's slope towards the light at offset `d`
-/// from the site as `−2 (D/δ) (d · Q l r)`: the dome `h = 1 − δ²` has `∇h = −2δ∇δ` and
-/// `∇δ = Q d / δ` (`Q = m⁻ᵀm⁻¹`), `l` is the light from the upper left and `r = √det m` the
-/// cell's mean radius; the owner's `D` stands for the first `δ` (it is `δ` for the paper's
-/// cells, and includes the colour term for edge-following ones). One division and one square
-/// root per pixel.
+/// from the site as `−2 d · Q l r`: the dome `h = 1 − δ²` has `∇h = −2δ∇δ = −2 Q d`
+/// (`∇δ = Q d / δ`, `Q = m⁻ᵀm⁻¹`), `l` is the light from the upper left and `r = √det m` the
+/// cell's mean radius. The dome is the ellipse's alone, for edge-following cells too: scaled
+/// by the owner's distance with the colour term over `δ`, as it once was, a grained pixel
+/// unlike its cell's mean got a slope several times the dome's and showed as a dark or light
+/// speck in the glass. A dot product per pixel, and the owner's distances are not needed.
 fn dome_tilts(scene: &Scene) -> Vec<DVec2> {
     let light = DVec2::new(-1.0, -1.0).normalize();
     scene
