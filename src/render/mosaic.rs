@@ -65,17 +65,18 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
     let (leading, colours) = glass(scene, params, width);
-    // The cell's colour with its relief at `p`: the dome's slope towards the light there.
+    // The cell's colour with its relief at `p`: lit where the dome faces the light.
     let inside = |p: DVec2, site: u32| {
-        let mut c = colours[site as usize];
-        if let Some(tilts) = &tilts {
-            let site = site as usize;
-            let d = p - scene.cells.positions()[site];
-            let slope = (-2.0 * d.dot(tilts[site])) as f32;
-            let k = (1.0 + params.relief * 0.5 * slope).clamp(0.0, 2.0);
-            c = c.map(|v| (v * k).clamp(0.0, 1.0));
+        let (site, c) = (site as usize, colours[site as usize]);
+        match &tilts {
+            Some(tilts) => lit(
+                c,
+                params.relief,
+                p - scene.cells.positions()[site],
+                tilts[site],
+            ),
+            None => c,
         }
-        c
     };
     // Pixels the cell map settles have no border near: no ink (`border_coverage` is 0).
     scene.shade_settled_by_site(
@@ -204,6 +205,51 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Line
         .collect()
 }
 
+/// A mosaic cell's relief as an SVG gradient: its two ends (output pixels) and the glass's
+/// colours along it.
+pub(super) struct Ramp {
+    /// The gradient's ends.
+    pub ends: [DVec2; 2],
+    /// The glass's colour at the first end, at the site (half way) and at the second end.
+    pub colours: [Linear; 3],
+}
+
+/// Per cell, the mosaic's relief as a linear gradient: the dome's shading is linear in the
+/// position but for its clamps ([`lit`]), so stops along its slope at the site and one and a
+/// half long semi-axes either side give it across the cell (viewers blend the stops in sRGB,
+/// the raster shades in linear light). `None` without relief.
+#[must_use]
+pub(super) fn relief_ramps(
+    scene: &Scene,
+    p: &MosaicParams,
+    colours: &[Linear],
+) -> Option<Vec<Option<Ramp>>> {
+    if p.relief <= 0.0 {
+        return None;
+    }
+    let r = scene.raster;
+    let scale = DVec2::new(r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let tilts = dome_tilts(scene);
+    let cells = scene.cells.positions().iter().zip(scene.cells.metrics());
+    let ramps = cells
+        .zip(colours.iter().zip(&tilts))
+        .map(|((&site, m), (&c, &tilt))| {
+            let e = m.eigen();
+            let reach = RAMP_REACH * e.l1.abs().max(e.l2.abs());
+            let d = tilt.normalize_or_zero() * reach;
+            (d != DVec2::ZERO).then(|| Ramp {
+                ends: [(site - d) * scale, (site + d) * scale],
+                colours: [-d, DVec2::ZERO, d].map(|d| lit(c, p.relief, d, tilt)),
+            })
+        })
+        .collect();
+    Some(ramps)
+}
+
+/// How far either side of its site a cell's relief gradient runs, in long semi-axes: past
+/// the glass of most cells, where the gradient's last colour goes on.
+const RAMP_REACH: f64 = 1.5;
+
 /// The largest perimeter over area (per output pixel) [`lit_through_leading`] counts: a cell
 /// narrower than a few pixels is mostly leading, and lifting its colour to white would not
 /// bring its tone back.
@@ -228,13 +274,14 @@ fn median_by_area(axes: &[(f64, f64)]) -> f64 {
     sorted.last().map_or(1.0, |c| c.0)
 }
 
-/// Per cell, the vector `Q l r` that gives the relief's slope towards the light at offset `d`
-/// from the site as `−2 d · Q l r`: the dome `h = 1 − δ²` has `∇h = −2δ∇δ = −2 Q d`
-/// (`∇δ = Q d / δ`, `Q = m⁻ᵀm⁻¹`), `l` is the light from the upper left and `r = √det m` the
-/// cell's mean radius. The dome is the ellipse's alone, for edge-following cells too: scaled
-/// by the owner's distance with the colour term over `δ`, as it once was, a grained pixel
-/// unlike its cell's mean got a slope several times the dome's and showed as a dark or light
-/// speck in the glass. A dot product per pixel, and the owner's distances are not needed.
+/// Per cell, the vector `Q l r` that gives how squarely the dome faces the light at offset `d`
+/// from the site, `2 d · Q l r`: the dome `h = 1 − δ²` has `∇h = −2δ∇δ = −2 Q d`
+/// (`∇δ = Q d / δ`, `Q = m⁻ᵀm⁻¹`), its surface faces the light `l` (from the upper left) by
+/// `−∇h · l`, and `r = √det m` is the cell's mean radius. The dome is the ellipse's alone, for
+/// edge-following cells too: scaled by the owner's distance with the colour term over `δ`,
+/// as it once was, a grained pixel unlike its cell's mean got a slope several times the
+/// dome's and showed as a dark or light speck in the glass. A dot product per pixel, and the
+/// owner's distances are not needed.
 fn dome_tilts(scene: &Scene) -> Vec<DVec2> {
     let light = DVec2::new(-1.0, -1.0).normalize();
     scene
@@ -246,6 +293,19 @@ fn dome_tilts(scene: &Scene) -> Vec<DVec2> {
             q.mul_vec(light) * m.det().sqrt()
         })
         .collect()
+}
+
+/// Glass of colour `c` lit by a relief of strength `relief` at offset `d` from its site, the
+/// cell's tilt ([`dome_tilts`]) `tilt`: how squarely the dome faces the light there,
+/// `2 d · tilt`, brightens or darkens it by half the relief per unit (the side towards the
+/// upper left lit, the other in shade; the sign was once the other way, which lit the domes
+/// from the lower right, and they read as dishes). The raster and the SVG's gradients both
+/// light the glass with it.
+#[must_use]
+pub(super) fn lit(c: Linear, relief: f32, d: DVec2, tilt: DVec2) -> Linear {
+    let facing = (2.0 * d.dot(tilt)) as f32;
+    let k = (1.0 + relief * 0.5 * facing).clamp(0.0, 2.0);
+    c.map(|v| (v * k).clamp(0.0, 1.0))
 }
 
 /// How much of a point is border ink: 1 within half the width of the border between its owner

@@ -69,7 +69,8 @@ pub(super) fn svg_of_laid(
             let (widths, colours) = super::mosaic::glass(scene, p, scene.border_px(p.border_width));
             let border =
                 (p.border_width > 0.0).then_some((p.border_colour, Leading::PerCell(&widths)));
-            cells(&mut out, scene, &colours, border);
+            let ramps = super::mosaic::relief_ramps(scene, p, &colours);
+            cells(&mut out, scene, (&colours, ramps.as_deref()), border);
         }
         Look::Texture(p) if matches!(p.kind, TextureKind::Hatch | TextureKind::CrossHatch) => {
             hatched(&mut out, scene, p);
@@ -83,7 +84,7 @@ pub(super) fn svg_of_laid(
                     Leading::Even(scene.border_px(p.border_width)),
                 )
             });
-            cells(&mut out, scene, &colours, border);
+            cells(&mut out, scene, (&colours, None), border);
         }
         Look::Glyphs(p) => {
             let laid = laid.unwrap_or_else(|| super::glyphs::laid(scene, p));
@@ -189,7 +190,12 @@ enum Leading<'a> {
 
 /// Writes the cells of `scene` filled with `colours`, and the borders stroked with
 /// `(colour, leading)` when given.
-fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u8; 3], Leading)>) {
+fn cells(
+    out: &mut String,
+    scene: &Scene,
+    (colours, ramps): (&[Linear], Option<&[Option<super::mosaic::Ramp>]>),
+    border: Option<([u8; 3], Leading)>,
+) {
     let traced = Traced::new(scene);
     // Without leading, a hairline of the cell's own colour hides the seams anti-aliasing
     // leaves between abutting polygons.
@@ -205,7 +211,20 @@ fn cells(out: &mut String, scene: &Scene, colours: &[Linear], border: Option<([u
             continue;
         }
         traced.cell_path(i, &mut d);
-        let c = hex(colour);
+        let mut c = hex(colour);
+        if let Some(ramp) = ramps.and_then(|r| r[i].as_ref()) {
+            let [from, to] = ramp.ends.map(|v| [num(v.x as f32), num(v.y as f32)]);
+            let [c0, c1, c2] = ramp.colours.map(hex);
+            let _ = writeln!(
+                out,
+                "<linearGradient id=\"r{i}\" gradientUnits=\"userSpaceOnUse\" x1=\"{}\" \
+                 y1=\"{}\" x2=\"{}\" y2=\"{}\"><stop offset=\"0\" stop-color=\"{c0}\"/>\
+                 <stop offset=\"0.5\" stop-color=\"{c1}\"/><stop offset=\"1\" \
+                 stop-color=\"{c2}\"/></linearGradient>",
+                from[0], from[1], to[0], to[1]
+            );
+            c = format!("url(#r{i})");
+        }
         if border.is_none() {
             let _ = writeln!(out, r#"<path fill="{c}" stroke="{c}" d="{d}"/>"#);
         } else {
@@ -502,11 +521,11 @@ fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams, laid: &[(DVec2,
     let r = scene.raster;
     let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
     if params.underpaint {
-        cells(out, scene, &scene.colours, None);
+        cells(out, scene, (&scene.colours, None), None);
     } else if params.ground > 0.0 && super::glyphs::tone_kept(scene, params) {
         let kappa = super::glyphs::glyph_cover(scene, params);
         let ground = super::glyphs::grounds(scene, params, kappa);
-        cells(out, scene, &ground, None);
+        cells(out, scene, (&ground, None), None);
     } else {
         let _ = writeln!(
             out,
