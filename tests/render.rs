@@ -602,9 +602,17 @@ fn mosaic_leading_runs_along_every_border_of_the_cells() {
 /// `photo` painted with the built-in mosaic and `sets`, seed 1, without relief (each cell one
 /// flat glass colour), and its glass without the leading ([`glass_under`]).
 fn mosaic_of(photo: DynamicImage, sets: &[String]) -> (RgbImage, RgbImage) {
+    let mut sets = sets.to_vec();
+    sets.push("look.relief=0".to_string());
+    let (image, labels) = mosaic_labelled(photo, &sets);
+    let glass = glass_under(&image, &labels);
+    (image, glass)
+}
+
+/// `photo` painted with the built-in mosaic and `sets`, seed 1, and its label map.
+fn mosaic_labelled(photo: DynamicImage, sets: &[String]) -> (RgbImage, Vec<i32>) {
     let mut preset = anisopaint::style::load("mosaic").unwrap();
     anisopaint::style::apply_sets(&mut preset, sets).unwrap();
-    anisopaint::style::apply_sets(&mut preset, &["look.relief=0".to_string()]).unwrap();
     let recipe =
         anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
     let loaded = input::photo_field(photo, &recipe.field.metric);
@@ -615,8 +623,7 @@ fn mosaic_of(photo: DynamicImage, sets: &[String]) -> (RgbImage, RgbImage) {
     let painted =
         anisopaint::paint::paint_loaded(&loaded, &recipe, extras, &anisopaint::progress::Silent)
             .unwrap();
-    let glass = glass_under(&painted.image, &painted.labels.unwrap());
-    (painted.image, glass)
+    (painted.image, painted.labels.unwrap())
 }
 
 /// The glass of a mosaic painted without relief, as it would be without its leading: every
@@ -751,20 +758,8 @@ fn relief_lights_each_cell_as_a_smooth_dome() {
     // the geometric one, so a grained pixel unlike its cell's mean got a slope several times
     // the dome's and showed as a dark or light speck in the glass. Measured, pixels standing
     // out from all four neighbours by over 8 levels: 5 of 52 826 (95 with the scaled slope).
-    let mut preset = anisopaint::style::load("mosaic").unwrap();
     let sets = ["look.relief=0.5", "look.border_width=0"].map(String::from);
-    anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
-    let recipe =
-        anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1)).unwrap();
-    let loaded = input::photo_field(grained_photo(320, 240), &recipe.field.metric);
-    let extras = anisopaint::paint::Extras {
-        svg: false,
-        labels: true,
-    };
-    let painted =
-        anisopaint::paint::paint_loaded(&loaded, &recipe, extras, &anisopaint::progress::Silent)
-            .unwrap();
-    let (img, labels) = (painted.image, painted.labels.unwrap());
+    let (img, labels) = mosaic_labelled(grained_photo(320, 240), &sets);
     let (w, h) = (img.width() as usize, img.height() as usize);
     let luma = |k: usize| {
         let p = img.get_pixel((k % w) as u32, (k / w) as u32).0;

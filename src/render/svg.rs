@@ -188,8 +188,9 @@ enum Leading<'a> {
     PerCell(&'a [f32]),
 }
 
-/// Writes the cells of `scene` filled with `colours`, and the borders stroked with
-/// `(colour, leading)` when given.
+/// Writes the cells of `scene` filled with `colours` (or, where `ramps` gives a cell one, with
+/// that gradient: the mosaic's relief), and the borders stroked with `(colour, leading)` when
+/// given.
 fn cells(
     out: &mut String,
     scene: &Scene,
