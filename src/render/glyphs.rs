@@ -196,8 +196,7 @@ pub(super) fn painted(
         let bg = params.background;
         pixmap.fill(Color::from_rgba8(bg[0], bg[1], bg[2], 255));
     }
-    let sx = r.width as f64 / r.domain.x;
-    let sy = r.height as f64 / r.domain.y;
+    let DVec2 { x: sx, y: sy } = r.pixels_per_domain_unit();
     let mut line = Paint::default();
     let o = params.outline;
     line.set_color(Color::from_rgba8(o[0], o[1], o[2], 255));

@@ -227,8 +227,7 @@ pub(super) fn relief_ramps(
     if p.relief <= 0.0 {
         return None;
     }
-    let r = scene.raster;
-    let scale = DVec2::new(r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let scale = scene.raster.pixels_per_domain_unit();
     let tilts = dome_tilts(scene);
     let cells = scene.cells.positions().iter().zip(scene.cells.metrics());
     let ramps = cells

@@ -46,6 +46,15 @@ impl Raster {
         self.height * self.supersample
     }
 
+    /// Output pixels per domain unit along x and y (what the vector forms scale by).
+    #[must_use]
+    pub fn pixels_per_domain_unit(&self) -> DVec2 {
+        DVec2::new(
+            self.width as f64 / self.domain.x,
+            self.height as f64 / self.domain.y,
+        )
+    }
+
     /// Domain units per raster point along x and y.
     #[must_use]
     pub fn step(&self) -> DVec2 {
@@ -73,7 +82,8 @@ impl Raster {
     /// Output pixels per domain unit (the geometric mean of x and y).
     #[must_use]
     pub fn pixels_per_unit(&self) -> f64 {
-        ((self.width as f64 / self.domain.x) * (self.height as f64 / self.domain.y)).sqrt()
+        let s = self.pixels_per_domain_unit();
+        (s.x * s.y).sqrt()
     }
 }
 

@@ -247,7 +247,7 @@ fn cells(
 fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
     let traced = Traced::new(scene);
     let r = scene.raster;
-    let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let DVec2 { x: sx, y: sy } = r.pixels_per_domain_unit();
     let px = 1.0 / scene.pixels_per_unit;
     let paper = linear_of(p.paper);
     let _ = writeln!(
@@ -323,7 +323,7 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
 fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     let traced = Traced::new(scene);
     let r = scene.raster;
-    let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let DVec2 { x: sx, y: sy } = r.pixels_per_domain_unit();
     let k = (sx * sy).sqrt();
     let px = 1.0 / scene.pixels_per_unit;
     let _ = writeln!(
@@ -471,7 +471,7 @@ fn num(v: f32) -> Num {
 /// and 51, now 30 and 40).
 fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
     let r = scene.raster;
-    let scale = glam::DVec2::new(r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let scale = r.pixels_per_domain_unit();
     let ppu = scale.x.min(scale.y);
     let _ = writeln!(
         out,
@@ -520,7 +520,7 @@ fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
 /// Writes the glyphs of `scene`, `laid` as the picture lays them, as vector shapes.
 fn glyphs(out: &mut String, scene: &Scene, params: &GlyphParams, laid: &[(DVec2, Tensor, Linear)]) {
     let r = scene.raster;
-    let (sx, sy) = (r.width as f64 / r.domain.x, r.height as f64 / r.domain.y);
+    let DVec2 { x: sx, y: sy } = r.pixels_per_domain_unit();
     if params.underpaint {
         cells(out, scene, (&scene.colours, None), None);
     } else if params.ground > 0.0 && super::glyphs::tone_kept(scene, params) {
