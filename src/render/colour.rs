@@ -227,10 +227,9 @@ pub fn ramp(t: f32) -> Linear {
 /// own, so that two choices about one cell are independent and no look's pattern repeats
 /// another's. The values are arbitrary but fixed: changing one changes the pictures.
 pub mod salt {
-    /// Stipple dot position inside its grid cell, x.
-    pub const STIPPLE_X: u64 = 2;
-    /// Stipple dot position inside its grid cell, y.
-    pub const STIPPLE_Y: u64 = 3;
+    /// Stipple dot position inside its grid cell (x and y) and its order among its
+    /// neighbours (which lies above), cut from one word.
+    pub const STIPPLE: u64 = 2;
     /// Phase of a stroke texture's bristle streaks along the cell.
     pub const STROKE_PHASE: u64 = 4;
     /// Brightness of one bristle streak of a stroke texture.

@@ -18,6 +18,7 @@ mod chroma_edges;
 pub mod colour;
 pub mod colour_term;
 mod disjoint;
+mod dot_order;
 mod edge_dog;
 mod edge_stop;
 pub mod engrave;

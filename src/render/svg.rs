@@ -20,7 +20,7 @@ use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
-use super::stipple::{dab_colour, dot_centre, stipple_radius};
+use super::stipple::{dab_colour, dot, stipple_radius};
 use super::streamlines::normal_at;
 use super::texture::{
     cell_tones, smoothstep, spacing, texture_frames, Ink, TextureKind, TextureParams,
@@ -317,7 +317,8 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
 
 /// Writes stippled cells as vector dots: per cell, the raster's jittered lattice in the cell's
 /// frame, every dot a circle of the raster's radius for the cell's tone (so the dots ink the
-/// same share of paper), clipped to the traced cell, in the cell's ink; pointillist dots
+/// same share of paper) laid in the raster's order, clipped to the traced cell, in the cell's
+/// ink; pointillist dots
 /// ([`Ink::Pixel`]) each in the blurred photo's colour at its centre, with the raster's
 /// per-dot colour ([`dab_colour`]).
 fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
@@ -337,7 +338,7 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
         (Ink::Pixel(_), Some(photo)) => Some(BlurredPhoto::new(photo)),
         _ => None,
     };
-    let (mut d, mut dots) = (String::new(), String::new());
+    let (mut d, mut dots, mut order) = (String::new(), String::new(), Vec::new());
     for (i, &(darkness, ink)) in tones.iter().enumerate() {
         if traced.rings[i].is_empty() || darkness <= 0.0 {
             continue;
@@ -357,24 +358,31 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
             let local = glam::DVec2::new(cos * v.x + sin * v.y, -sin * v.x + cos * v.y) / s;
             (lo, hi) = (lo.min(local), hi.max(local));
         }
-        dots.clear();
+        // The cell's dots, lowest first: later circles lie over earlier ones as the raster's
+        // dabs do.
+        order.clear();
         for cy in (lo.y.floor() as i64 - 1)..=(hi.y.ceil() as i64) {
             for cx in (lo.x.floor() as i64 - 1)..=(hi.x.ceil() as i64) {
-                let c = dot_centre(i as u32, glam::DVec2::new(cx as f64, cy as f64)) * s;
-                let q = site + glam::DVec2::new(cos * c.x - sin * c.y, sin * c.x + cos * c.y);
-                let _ = write!(
-                    dots,
-                    r#"<circle cx="{}" cy="{}" r="{}""#,
-                    num((q.x * sx) as f32),
-                    num((q.y * sy) as f32),
-                    num((radius * k) as f32)
-                );
-                if let (Ink::Pixel(darken), Some(photo)) = (p.ink, &blurred) {
-                    let dab = dab_colour(i as u32, c, photo.at(q), darken);
-                    let _ = write!(dots, r#" fill="{}""#, hex(dab));
-                }
-                dots.push_str("/>");
+                let (above, c) = dot(i as u32, glam::DVec2::new(cx as f64, cy as f64));
+                order.push((above, c * s));
             }
+        }
+        order.sort_by_key(|&(above, _)| above);
+        dots.clear();
+        for &(_, c) in &order {
+            let q = site + glam::DVec2::new(cos * c.x - sin * c.y, sin * c.x + cos * c.y);
+            let _ = write!(
+                dots,
+                r#"<circle cx="{}" cy="{}" r="{}""#,
+                num((q.x * sx) as f32),
+                num((q.y * sy) as f32),
+                num((radius * k) as f32)
+            );
+            if let (Ink::Pixel(darken), Some(photo)) = (p.ink, &blurred) {
+                let dab = dab_colour(i as u32, c, photo.at(q), darken);
+                let _ = write!(dots, r#" fill="{}""#, hex(dab));
+            }
+            dots.push_str("/>");
         }
         traced.cell_path(i, &mut d);
         let _ = writeln!(

@@ -20,13 +20,14 @@ use super::colour::{
     bilinear, darkened_to, encoded, lightness, linear_of, mix, mix_encoded, salt, site_hash,
     Linear, GOLDEN_U32,
 };
+use super::dot_order::dots_at;
 use super::frames::{cell_frames, FlatHatching, Frame};
 use super::local_tone::LocalTone;
 use super::mosaic::border_coverage;
 use super::quiet_cells::quiet_cells;
 use super::rounding::{cube_root, floor};
 use super::scene::{Average, Scene};
-use super::stipple::{dab_at, dot_coverage_at, next_render, stipple_radius, Dab};
+use super::stipple::{dab_at, next_render, stipple_radius, Dab};
 use super::stripes::stripe_coverage;
 use super::voronoi::Owner;
 use glam::DVec2;
@@ -295,38 +296,44 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             _ => cell_ink,
         };
         let radius = radii.get(site as usize).copied().unwrap_or(0.0);
-        // Stipple: the dot covering the point (its coverage and centre), found once.
-        let dot = (params.kind == TextureKind::Stipple)
-            .then(|| dot_coverage_at(local, site, periods[site as usize], radius, px));
+        // Stipple: the dots at the point (the uppermost and the one under it), found once.
+        let dots = (params.kind == TextureKind::Stipple).then(|| {
+            dots_at(
+                local,
+                site,
+                periods[site as usize],
+                (radius, darkness >= 1.0),
+                px,
+            )
+        });
         // Pointillist dots (stipple in the photo's colours): each one dab of the photo's colour
-        // at its centre (its frame turned back into the picture's), cut by the photo's edges.
+        // at its centre (its frame turned back into the picture's), cut by the photo's edges;
+        // at the rim of the uppermost, the dab under it shows.
         let plain_ink = ink;
-        let ink = || match (dot, params.ink, &blurred) {
-            (Some((_, centre)), Ink::Pixel(k), Some(b)) => {
-                let dab = dab_at(render, site, centre, || {
-                    let world = DVec2::new(
-                        f.cos * centre.x - f.sin * centre.y,
-                        f.sin * centre.x + f.cos * centre.y,
-                    );
-                    Dab::new(
-                        site,
-                        centre,
-                        b.at(scene.cells.positions()[site as usize] + world),
-                        k,
-                    )
-                });
-                dab.colour_over(b.at(p))
+        let dab_over = |centre: DVec2, b: &BlurredPhoto, k: f32, here: Linear| {
+            let dab = dab_at(render, site, centre, || {
+                let world =
+                    DVec2::new(f.cos, f.sin) * centre.x + DVec2::new(-f.sin, f.cos) * centre.y;
+                let under = b.at(scene.cells.positions()[site as usize] + world);
+                Dab::new(site, centre, under, k)
+            });
+            dab.colour_over(here)
+        };
+        let ink = || match (dots, params.ink, &blurred) {
+            (Some(dots), Ink::Pixel(k), Some(b)) => {
+                let here = b.at(p);
+                dots.ink(|centre| dab_over(centre, b, k, here))
             }
             _ => plain_ink(),
         };
         let mut c = if let TextureKind::Stroke = params.kind {
             stroke(local, &f, site, colour, params, px)
         } else {
-            let cover = match dot {
+            let cover = match dots {
                 // A tone of solid ink leaves no paper in the gaps of the dots' lattice (their
                 // radius inks every point of the table's sampling of it, not every pixel).
                 Some(_) if darkness >= 1.0 => 1.0,
-                Some((cover, _)) => cover,
+                Some(dots) => dots.cover(),
                 None => {
                     let centre = scene.cells.positions()[site as usize];
                     coverage(local, centre, &f, darkness, params, px)
@@ -422,7 +429,7 @@ fn lines(
 }
 
 /// Ink coverage of the ink textures at a local point of a cell whose site is at `centre` (the
-/// stipple's dots are found by [`dot_coverage_at`], which also gives the dot's centre).
+/// stipple's dots are found by [`dots_at`], which also gives their centres).
 fn coverage(
     local: DVec2,
     centre: DVec2,
@@ -482,7 +489,7 @@ fn coverage(
             let half = f64::from(darkness) * 0.8 * f.b * (1.0 - s * s).sqrt();
             ((half - local.y.abs()) / px + 0.5).clamp(0.0, 1.0) as f32
         }
-        // The caller finds the dot with its centre (`dot_coverage_at`); its flat tone here.
+        // The caller finds the dots with their centres (`dots_at`); its flat tone here.
         TextureKind::Stipple => darkness,
         TextureKind::Image(img) => {
             let u = (local.x / f.a + 1.0) * 0.5;
