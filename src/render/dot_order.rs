@@ -2,8 +2,9 @@
 //! them (paper section 6's textured cells, the pointillist's dabs): where dots overlap, each
 //! lies above or below its neighbours by a hashed order, so the uppermost one that reaches a
 //! point colours it and the one under it shows at its rim. The raster asks at every point of a
-//! stippled cell, so the nine dots round a lattice cell are kept per thread, sorted, from one
-//! point to the next ([`Neighbourhood`]). `f64` in domain units; coverage `f32`.
+//! stippled cell, so a thread keeps the nine dots round the last point's lattice cell
+//! ([`Neighbourhood`]) and the disc round the last point where its uppermost dot stays
+//! uppermost (`Whole`). `f64` in domain units; coverage `f32`.
 
 use super::colour::{mix, Linear};
 use super::rounding::floor;

@@ -318,9 +318,8 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
 /// Writes stippled cells as vector dots: per cell, the raster's jittered lattice in the cell's
 /// frame, every dot a circle of the raster's radius for the cell's tone (so the dots ink the
 /// same share of paper) laid in the raster's order, clipped to the traced cell, in the cell's
-/// ink; pointillist dots
-/// ([`Ink::Pixel`]) each in the blurred photo's colour at its centre, with the raster's
-/// per-dot colour ([`dab_colour`]).
+/// ink; pointillist dots ([`Ink::Pixel`]) each in the blurred photo's colour at its centre,
+/// with the raster's per-dot colour ([`dab_colour`]).
 fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
     let traced = Traced::new(scene);
     let r = scene.raster;
