@@ -53,10 +53,9 @@ impl DotsAt {
 /// ([`DotsAt`]; a point no dot reaches has a top of no coverage, centred at `local`). Dots of
 /// no radius ink nothing (the anti-aliasing ramp alone would still lay half a pixel's ink at
 /// each centre: faint specks on bare paper). Where the tone is `solid` (the point is inked
-/// wholly whatever the dots cover), the dot under the top one is not looked for, and the top
-/// one's coverage may read 1 at its rim: where two dabs meet, the upper one's edge is not
-/// smoothed over the lower (a pixel's step along an edge between two colours a tenth apart,
-/// which a 12 MP pointillist painted 0.1 s faster without).
+/// wholly whatever the dots cover) and the period is at least [`SHARP_DABS_FROM_PX`], the dot
+/// under the top one is not looked for, and the top one's coverage may read 1 at its rim: where
+/// two dabs meet, the upper one's edge is not smoothed over the lower.
 ///
 /// Dots overlap where the tone asks for more than their lattice covers edge to edge: each
 /// lies above or below its neighbours by a hashed order (`stipple::dot`), so every dot shows as
@@ -77,6 +76,7 @@ pub(super) fn dots_at(
     if radius <= 0.0 {
         return found;
     }
+    let solid = solid && s >= SHARP_DABS_FROM_PX * px;
     let cell = DVec2::new(floor(local.x / s), floor(local.y / s));
     let r = s * radius;
     let reach = r + 0.5 * px;
@@ -153,6 +153,13 @@ pub(super) fn dots_at(
     });
     found
 }
+
+/// The stipple period in output pixels from which dabs of a solid tone meet without the upper
+/// one's edge smoothed over the lower ([`dots_at`]): a pixel's step against a dab at least this
+/// wide does not show, and it saved 0.1 s of a 12 MP pointillist; smaller dabs (a photo of up
+/// to a megapixel) keep it, without which `tone.py`'s blurred PSNR fell by 0.5 dB over the 22
+/// held-out pictures.
+const SHARP_DABS_FROM_PX: f64 = 8.0;
 
 /// The dots (domain units in the cell's frame) of lattice cell `cell` of `site`'s cell,
 /// period `s`, and of its eight neighbours (jitter can reach across), row by row: kept from
@@ -306,6 +313,10 @@ mod tests {
                     let solid = dots_at(p, site, s, (radius, true), px);
                     assert_eq!(solid.top.1, want.1, "{p}, solid");
                     assert_eq!(solid.under, None);
+                    // Dabs under SHARP_DABS_FROM_PX pixels keep the one under the top one.
+                    let small = 2.0 * s / SHARP_DABS_FROM_PX;
+                    let smoothed = dots_at(p, site, s, (radius, false), small);
+                    assert_eq!(dots_at(p, site, s, (radius, true), small), smoothed, "{p}");
                     if got.top.0 >= 1.0 {
                         inked += 1;
                         let own = got.top.1 / s;

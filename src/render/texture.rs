@@ -296,10 +296,8 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             _ => cell_ink,
         };
         let radius = radii.get(site as usize).copied().unwrap_or(0.0);
-        // Stipple: the dots at the point (the uppermost and the one under it), found once;
-        // dabs of a solid tone and large enough meet without smoothing (`dots_at`).
-        let period = periods[site as usize];
-        let solid = darkness >= 1.0 && period >= SHARP_DABS_FROM_PX * px;
+        // Stipple: the dots at the point (the uppermost and the one under it), found once.
+        let (period, solid) = (periods[site as usize], darkness >= 1.0);
         let dots = (params.kind == TextureKind::Stipple)
             .then(|| dots_at(local, site, period, (radius, solid), px));
         // Pointillist dots (stipple in the photo's colours): each one dab of the photo's colour
@@ -381,13 +379,6 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
         )
     })
 }
-
-/// The stipple period in output pixels from which dabs of a solid tone meet without the upper
-/// one's edge smoothed over the lower ([`dots_at`]): a pixel's step against a dab at least this
-/// wide does not show, and it saved 0.1 s of a 12 MP pointillist; smaller dabs (a photo of up
-/// to a megapixel) keep it, without which `tone.py`'s blurred PSNR fell by 0.5 dB over the 22
-/// held-out pictures.
-const SHARP_DABS_FROM_PX: f64 = 8.0;
 
 /// `0` at 0, `1` from `edge` on, smooth between (`edge ≤ 0`: always 1).
 pub(super) fn smoothstep(edge: f32, x: f32) -> f32 {
