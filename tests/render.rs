@@ -737,6 +737,19 @@ fn small_cells_take_thin_leading() {
     );
 }
 
+#[test]
+fn a_thumbnails_cells_are_not_all_leading() {
+    // The cell count does not grow with the picture, so a thumbnail's cells are a few pixels
+    // across, and leading of the preset's 1.5 px covered most of them: at 160 × 120 it took
+    // 0.36 of the picture's tone (0.21 at 480 × 360, 0.09 at 1200 × 900). It is now no wider
+    // than half the short semi-axis of the cells covering most of the picture, nor under a
+    // pixel. Measured: 0.24.
+    let (led, glass) = mosaic_of(leading_photo(160, 120), &[]);
+    let share = leading_share(&led, &glass);
+    assert!(share > 0.1, "the leading still shows: {share:.4}");
+    assert!(share < 0.3, "leading share of a thumbnail {share:.4}");
+}
+
 /// A wood-like photo: bands of light and dark brown across the picture, under a grain of
 /// ±24 levels that changes every pixel (a hash of its position).
 fn grained_photo(w: u32, h: u32) -> DynamicImage {
