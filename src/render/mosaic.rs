@@ -119,8 +119,8 @@ pub fn glass(scene: &Scene, params: &MosaicParams, width: f32) -> (Vec<f32>, Vec
 /// wide as the strokes themselves, and text became unreadable. The reference is the cells that
 /// cover most of the picture (the median by area, not by count, which the many small cells of
 /// a detail would pull down), so the width a preset or user asks for is what the picture
-/// mostly shows; on a thumbnail, whose cells are only a few pixels across, no more than
-/// `WIDEST_PER_SEMI_AXIS` of that cell's short semi-axis (and no less than a pixel).
+/// mostly shows; on a thumbnail, whose cells are only a few pixels across, narrowed with
+/// them (`FULL_WIDTH_FROM_SEMI_AXIS_PX`).
 #[must_use]
 pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
     // (short semi-axis, area ∝ a·b) per cell.
@@ -135,10 +135,10 @@ pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
         })
         .collect();
     let reference = median_by_area(&axes);
-    // A thumbnail's cells are a few pixels across: no wider than its share of them, but a
-    // line all the same.
-    let widest = (WIDEST_PER_SEMI_AXIS * reference * scene.pixels_per_unit) as f32;
-    let width = width.min(widest.max(1.0));
+    // A thumbnail's cells are a few pixels across: its leading narrows with them, but stays
+    // a line.
+    let shrink = (reference * scene.pixels_per_unit / FULL_WIDTH_FROM_SEMI_AXIS_PX).min(1.0);
+    let width = (width * shrink as f32).max(width.min(1.0));
     axes.iter()
         .map(|&(b, _)| width * (b / reference).clamp(THINNEST, 1.0) as f32)
         .collect()
@@ -259,14 +259,15 @@ const RAMP_REACH: f64 = 1.5;
 /// bring its tone back.
 const MAX_PERIMETER_PER_AREA: f64 = 0.4;
 
-/// The widest leading, in short semi-axes of the cells that cover most of the picture (a
-/// quarter of their width), but never under a pixel (thinner, it reads as a grey smudge, not
-/// a line). The cell count does not grow with the picture, so below a one-megapixel photo the
-/// cells shrink under leading of a fixed width: at 160 × 120 pixels it took 0.36 of the
-/// picture's tone (0.24 now), and a fundus thumbnail of 102 × 102 pixels (cells of 1.3 pixels'
-/// short semi-axis) came out 21 levels darker than the photo (13 now). From about 0.1 MP up
-/// (short semi-axes of 3 pixels and more) the preset's 1.5 px stands.
-const WIDEST_PER_SEMI_AXIS: f64 = 0.5;
+/// The short semi-axis (output pixels) of the cells covering most of the picture from which
+/// the leading takes the width asked for; on smaller cells it narrows in proportion, but not
+/// under a pixel (thinner, it reads as a grey smudge, not a line). The cell count does not
+/// grow with the picture, so a thumbnail's cells are a few pixels across, and the preset's
+/// 1.5 px covered most of them: at 160 × 120 pixels it took 0.36 of the picture's tone (0.24
+/// now; 0.09 at 1200 × 900), and a fundus thumbnail of 102 × 102 pixels (cells of 1.3 pixels'
+/// short semi-axis) came out 21 levels darker than the photo (13 now). Pictures from about
+/// 0.1 MP up have cells at least this large and keep the width asked for.
+const FULL_WIDTH_FROM_SEMI_AXIS_PX: f64 = 3.0;
 
 /// The narrowest leading as a share of the full width: thinner, a border between two tiny
 /// cells was no line at all.
