@@ -97,10 +97,15 @@ const ANGLES: [f64; 5] = [0.0, 17.0, 45.0, 80.0, 130.0];
 
 /// Share of band pixels within 10 % of the colour difference of their own side's colour.
 fn step_edge_share(angle: f64, sets: &[&str]) -> f64 {
-    let photo = picture(angle, |d| if d < 0.0 { A } else { B });
+    step_edge_share_of((A, B), angle, sets)
+}
+
+/// [`step_edge_share`] of an edge between colours `a` and `b`.
+fn step_edge_share_of((a, b): ([u8; 3], [u8; 3]), angle: f64, sets: &[&str]) -> f64 {
+    let photo = picture(angle, |d| if d < 0.0 { a } else { b });
     let (painted, _) = paint(&photo, "mosaic", sets);
     let (normal, centre) = (normal(angle), DVec2::new(f64::from(W), f64::from(H)) / 2.0);
-    let tolerance = 0.1 * distance(A, B);
+    let tolerance = 0.1 * distance(a, b);
     let (mut good, mut all) = (0usize, 0usize);
     for (x, y, px) in painted.enumerate_pixels() {
         let d = (DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5) - centre).dot(normal);
@@ -108,7 +113,7 @@ fn step_edge_share(angle: f64, sets: &[&str]) -> f64 {
         if !(0.71..=3.0).contains(&d.abs()) || !inside(x, y, 8) {
             continue;
         }
-        let own = if d < 0.0 { A } else { B };
+        let own = if d < 0.0 { a } else { b };
         all += 1;
         good += usize::from(distance(px.0, own) <= tolerance);
     }
@@ -137,6 +142,22 @@ fn step_edges_keep_both_colours_up_to_the_edge() {
         .sum::<f64>()
         / ANGLES.len() as f64;
     assert!(paper < 0.9, "the paper's cells: {:.1} %", 100.0 * paper);
+}
+
+#[test]
+fn a_dim_photos_edges_are_kept_as_a_bright_ones() {
+    // The same edge as above at a seventh of its light (an underexposed photo: 29, 10, 7
+    // against 5, 12, 24). Colour differences weigh by the photo's own range of colours; in
+    // absolute terms they weighed a fiftieth as much here, and the cells straddled the edge
+    // as the paper's do. Measured: 97 % of the band (91 % before).
+    let dim = |c: [u8; 3]| c.map(|v| (f64::from(v) / 7.0).round() as u8);
+    let sets = ["look.border_width=0", "look.relief=0"];
+    let share: f64 = ANGLES
+        .iter()
+        .map(|&angle| step_edge_share_of((dim(A), dim(B)), angle, &sets))
+        .sum::<f64>()
+        / ANGLES.len() as f64;
+    assert!(share >= 0.95, "{:.1} % of the band", 100.0 * share);
 }
 
 const BACKGROUND: [u8; 3] = [226, 222, 212];
