@@ -39,6 +39,7 @@ pub mod outline;
 pub mod outline_ink;
 pub mod outline_rigger;
 pub mod outline_share;
+mod photo_stats;
 pub mod pieces;
 pub mod preview;
 mod quiet_cells;

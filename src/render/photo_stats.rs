@@ -1,0 +1,172 @@
+//! What the edge-following cells' colour term reads of a photo to adapt to it
+//! ([`cells`](super::cells)): the range of its colours, over which colour differences weigh,
+//! and its grain, which the colour term's photo is blurred against. Both from sRGB bytes,
+//! every channel on its own, counted in integer histograms summed over parallel chunks (the
+//! same figures at any thread count).
+
+use image::RgbImage;
+use rayon::prelude::*;
+
+/// The range of `photo`'s colours: per channel the spread between its 1st and 99th
+/// percentiles (of every fourth pixel), the largest over the channels, in [0, 1].
+#[must_use]
+pub(super) fn colour_spread(photo: &RgbImage) -> f64 {
+    let counts = photo
+        .as_raw()
+        .par_chunks(3 * 4 * 4096)
+        .map(|chunk| {
+            let mut counts = [[0u32; 256]; 3];
+            for px in chunk.chunks_exact(3).step_by(4) {
+                for (k, &v) in px.iter().enumerate() {
+                    counts[k][usize::from(v)] += 1;
+                }
+            }
+            counts
+        })
+        .reduce(
+            || [[0u32; 256]; 3],
+            |mut a, b| {
+                for (a, b) in a.iter_mut().zip(&b) {
+                    for (a, b) in a.iter_mut().zip(b) {
+                        *a += b;
+                    }
+                }
+                a
+            },
+        );
+    counts
+        .iter()
+        .map(|c| {
+            let total: u32 = c.iter().sum();
+            // The first value at or past share `q` of the pixels.
+            let at = |q: f64| {
+                let want = ((q * f64::from(total)).ceil() as u32).max(1);
+                let mut seen = 0;
+                c.iter()
+                    .position(|&n| {
+                        seen += n;
+                        seen >= want
+                    })
+                    .unwrap_or(255)
+            };
+            (at(0.99) as f64 - at(0.01) as f64) / 255.0
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The grain of `photo` in levels: Immerkær's robust noise estimate (*Fast Noise Variance
+/// Estimation*, 1996, as the metric's [`noise`](crate::field::noise) takes it in linear
+/// light), the median of `|N * I|` with `N = [1 −2 1; −2 4 −2; 1 −2 1]` over every other row
+/// and column of the interior, divided by `0.6745·6` (white noise of deviation σ gives σ),
+/// the largest over the channels. Smooth shading and edges covering under half the picture
+/// give 0. 0 for photos under 3 × 3.
+#[must_use]
+pub(super) fn grain_sigma(photo: &RgbImage) -> f64 {
+    let (w, h) = (photo.width() as usize, photo.height() as usize);
+    if w < 3 || h < 3 {
+        return 0.0;
+    }
+    let raw = photo.as_raw();
+    let at = |x: usize, y: usize, c: usize| i32::from(raw[3 * (y * w + x) + c]);
+    let empty = || [0; 3].map(|_| vec![0u32; MAX_RESPONSE + 1]);
+    let counts = (1..h - 1)
+        .into_par_iter()
+        .step_by(2)
+        .with_min_len(64)
+        .fold(empty, |mut counts, y| {
+            for x in (1..w - 1).step_by(2) {
+                for (c, histogram) in counts.iter_mut().enumerate() {
+                    let corners = at(x - 1, y - 1, c)
+                        + at(x + 1, y - 1, c)
+                        + at(x - 1, y + 1, c)
+                        + at(x + 1, y + 1, c);
+                    let sides =
+                        at(x, y - 1, c) + at(x - 1, y, c) + at(x + 1, y, c) + at(x, y + 1, c);
+                    let response = corners - 2 * sides + 4 * at(x, y, c);
+                    histogram[response.unsigned_abs() as usize] += 1;
+                }
+            }
+            counts
+        })
+        .reduce(empty, |mut a, b| {
+            for (a, b) in a.iter_mut().zip(&b) {
+                for (a, b) in a.iter_mut().zip(b) {
+                    *a += b;
+                }
+            }
+            a
+        });
+    counts
+        .iter()
+        .map(|histogram| {
+            let total: u64 = histogram.iter().map(|&n| u64::from(n)).sum();
+            let half = total.div_ceil(2).max(1);
+            let mut seen = 0u64;
+            let median = histogram
+                .iter()
+                .position(|&n| {
+                    seen += u64::from(n);
+                    seen >= half
+                })
+                .unwrap_or(0);
+            median as f64 / (0.6745 * 6.0)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The largest `|N * I|` of 8-bit values: 16 × 255.
+const MAX_RESPONSE: usize = 16 * 255;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A smooth ramp with a hard edge through it, plus `noise(x, y)` levels.
+    fn ramp(noise: impl Fn(u32, u32) -> f64) -> RgbImage {
+        RgbImage::from_fn(120, 90, |x, y| {
+            let base = if x < 60 { 40.0 } else { 200.0 } + f64::from(y) * 0.3;
+            let v = (base + noise(x, y)).round().clamp(0.0, 255.0) as u8;
+            image::Rgb([v, v / 2, 255 - v])
+        })
+    }
+
+    #[test]
+    fn grain_is_the_noise_and_not_the_edges_or_shading() {
+        // Without grain the edge and the ramp give none.
+        assert_eq!(grain_sigma(&ramp(|_, _| 0.0)), 0.0);
+        // Gaussian-like noise of deviation 4 (a sum of twelve hashed uniforms): within 20 %.
+        let noisy = ramp(|x, y| {
+            let sum: f64 = (0..12u64)
+                .map(|k| {
+                    // SplitMix64 of the point and the draw.
+                    let mut z = (u64::from(x) << 40 | u64::from(y) << 20 | k)
+                        .wrapping_add(0x9E37_79B9_7F4A_7C15);
+                    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+                    z ^= z >> 31;
+                    (z >> 11) as f64 / (1u64 << 53) as f64
+                })
+                .sum();
+            4.0 * (sum - 6.0)
+        });
+        let sigma = grain_sigma(&noisy);
+        assert!(
+            (3.2..4.8).contains(&sigma),
+            "grain {sigma:.2} for noise of 4"
+        );
+        // Tiny photos have none to measure.
+        assert_eq!(grain_sigma(&RgbImage::new(2, 2)), 0.0);
+    }
+
+    #[test]
+    fn the_spread_is_the_widest_channels_middle_98_percent() {
+        // Red spans 0..=255 evenly, green 100..=150, blue one value.
+        let photo = RgbImage::from_fn(256, 64, |x, y| {
+            image::Rgb([x as u8, 100 + ((x + y) % 51) as u8, 7])
+        });
+        let spread = colour_spread(&photo);
+        assert!((spread - 252.0 / 255.0).abs() < 0.02, "spread {spread:.3}");
+        let flat = RgbImage::from_pixel(64, 64, image::Rgb([9, 9, 9]));
+        assert_eq!(colour_spread(&flat), 0.0);
+    }
+}
