@@ -321,8 +321,8 @@ fn strokes_keep_thin_lines_in_their_colour() {
     // over the struts with the ground's colour; the outlines in the photo's own colour
     // (`look.outline_ink = "pixel"`, on in `strokes`) draw them back. Measured on the struts'
     // cores (coverage ≥ 0.9), mean distance to the photo's colour (sRGB, 0–255, Euclidean):
-    // without the outlines 69.3, with them 16.5; on the ground 3 px or more from a strut 4.2
-    // both ways (the outlines stay on the struts).
+    // without the outlines 86.9, with them 0.0 (the photo's own pixels); on the ground 3 px or
+    // more from a strut 3.3 and 3.2 (the outlines stay on the struts).
     struts_come_back("strokes", [90.0, 120.0, 170.0], [50.0, 35.0, 25.0], 30.0);
 }
 
@@ -330,8 +330,8 @@ fn strokes_keep_thin_lines_in_their_colour() {
 fn glyphs_keep_thin_lines_in_their_colour() {
     // The lattice of dark struts on a blue ground, in glyphs: an ellipse per cell cannot draw
     // a line thinner than itself, the outlines in the photo's colour at half ink draw it
-    // halfway back. Measured: 54.0 from the struts' colour, 88.6 without the outlines; the
-    // ground 11.6 both ways.
+    // halfway back. Measured: 42.7 from the struts' colour, 84.6 without the outlines; the
+    // ground 12.0 both ways.
     struts_come_back("glyphs", [90.0, 120.0, 170.0], [50.0, 35.0, 25.0], 65.0);
 }
 
@@ -339,8 +339,9 @@ fn glyphs_keep_thin_lines_in_their_colour() {
 fn strokes_keep_thin_light_lines_in_their_colour() {
     // The same lattice of struts, light on a dark ground (whiskers, wires against a dark
     // wall): the outlines in the photo's colour are drawn on the light side of edges too, so
-    // the struts come back. Measured: 2.2 from their colour with the outlines, 89.4 without
-    // them and with outlines on the dark side only; the ground 1.8 both ways.
+    // the struts come back. Measured: 0.0 from their colour with the outlines (the photo's
+    // own pixels), 70.2 without them and with outlines on the dark side only; the ground 4.7
+    // both ways.
     struts_come_back("strokes", [70.0, 55.0, 45.0], [230.0, 220.0, 190.0], 30.0);
 }
 
@@ -384,9 +385,19 @@ fn strut_distances(style: &str, ground: [f64; 3], strut: [f64; 3]) -> [f64; 4] {
         inside
     };
     let cover: Vec<f64> = (0..W * H).map(|i| coverage(i % W, i / W)).collect();
+    // With a camera's grain of ±2 levels, hashed per pixel and channel: a picture without
+    // any is a drawing, whose cells are not blurred against grain and follow the struts.
+    let grain = |x: u32, y: u32, k: u32| {
+        let h = (u64::from(x) << 32 | u64::from(y) << 2 | u64::from(k))
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        ((h >> 40) % 5) as f64 - 2.0
+    };
     let photo = RgbImage::from_fn(W, H, |x, y| {
         let c = cover[(y * W + x) as usize];
-        image::Rgb([0, 1, 2].map(|k| (ground[k] + (strut[k] - ground[k]) * c).round() as u8))
+        image::Rgb([0u32, 1, 2].map(|k| {
+            let v = ground[k as usize] + (strut[k as usize] - ground[k as usize]) * c;
+            (v + grain(x, y, k)).round().clamp(0.0, 255.0) as u8
+        }))
     });
     // Within 3 px of a strut: the ground near it is not judged.
     let near = |x: u32, y: u32| {
