@@ -722,8 +722,10 @@ fn print_photo(w: u32, h: u32) -> DynamicImage {
 fn small_cells_take_thin_leading() {
     // Where the cells are small (print), leading of the full width would cover most of them;
     // it narrows with the cell (down to 0.4 of the width), while the large cells of the plain
-    // keep the full width. Measured: 0.19 of the print's tone is leading (0.53 at the full
-    // width), 0.056 of the plain's.
+    // keep the full width. Measured: 0.21 of the print's tone is leading (0.53 at the full
+    // width), 0.056 of the plain's. (0.19 until the leading beside dark glass was made darker
+    // than it, `LEAD_UNDER_GLASS`: the share counts darkening towards the preset's lead
+    // colour, and the leading along the strokes is darker than that now.)
     let (led, bare) = mosaic_of(print_photo(900, 300), &[]);
     let half = |img: &RgbImage, left: bool| {
         image::imageops::crop_imm(img, if left { 20 } else { 470 }, 20, 260, 260).to_image()
@@ -732,7 +734,7 @@ fn small_cells_take_thin_leading() {
     let plain = leading_share(&half(&led, false), &half(&bare, false));
     assert!(plain > 0.03, "the plain's leading shows: {plain:.4}");
     assert!(
-        print < 0.2,
+        print < 0.25,
         "leading over the print {print:.4} (plain {plain:.4})"
     );
 }

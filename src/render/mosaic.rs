@@ -86,7 +86,9 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
             if width > 0.0 {
                 let second = leading.get(o.second as usize).copied().unwrap_or(width);
                 let w = leading[o.site as usize].min(second);
-                mix(c, border, border_coverage(o, w))
+                let own = scene.colours[o.site as usize];
+                let other = scene.colours.get(o.second as usize).copied().unwrap_or(own);
+                mix(c, lead_between(border, own, other), border_coverage(o, w))
             } else {
                 c
             }
@@ -94,6 +96,24 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
         inside,
     )
 }
+
+/// The leading's colour between cells of the photo's colours `a` and `b` (their means, before
+/// the glass is lifted): `lead`, but no lighter than [`LEAD_UNDER_GLASS`] of the darker of
+/// the two, channel by channel in linear light. The raster and the SVG both draw this.
+#[must_use]
+pub(super) fn lead_between(lead: Linear, a: Linear, b: Linear) -> Linear {
+    std::array::from_fn(|i| lead[i].min(LEAD_UNDER_GLASS * a[i].min(b[i])))
+}
+
+/// The lightest the leading is beside a cell, as a share of the cell's light (linear): lead
+/// came is opaque and reads darker than any glass. The preset's leading (`#2a2521`, 16 % grey)
+/// is lighter than dark glass, and drew a grey web over black areas and a light grout over a
+/// dim photo: a black helmet read as a mesh, a deep-field sky as a net on black. Tone.py over
+/// the 22 held-out pictures, mosaic: blurred PSNR 28.04 → 28.22 dB, SSIM 0.734 → 0.763
+/// (astronaut 0.655 → 0.734, deep field 0.852 → 0.949 and +3.2 dB, horse 0.424 → 0.639;
+/// rocket −0.25 dB, coins −0.14); at 0.3 28.11 / 0.759, at 0.7 28.26 / 0.764 with the lines
+/// in dark areas fainter.
+const LEAD_UNDER_GLASS: f32 = 0.5;
 
 /// Per cell, the width of its leading in output pixels for borders `width` pixels wide
 /// ([`leading_widths`]) and its glass: the photo's colour lifted for that leading
@@ -198,6 +218,7 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Line
             let target = c.map(linear_to_srgb);
             let mut v = c;
             for _ in 0..3 {
+                let lead = lead_between(lead, c, c);
                 let lift: [f32; 3] = std::array::from_fn(|k| per_area * darkening(v[k], lead[k]));
                 let share = (0..3)
                     .filter(|&k| lift[k] > 0.0)

@@ -14,14 +14,13 @@
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
 
 use super::blurred_photo::BlurredPhoto;
-use super::colour::{linear_of, mix, to_srgb, Linear};
-use super::engrave::{engrave_with_inks, EngravingParams};
+use super::colour::{linear_of, mix, Linear};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
 use super::stipple::{dab_colour, dot, stipple_radius};
-use super::streamlines::normal_at;
+use super::svg_path::{hex, num, path_data};
 use super::texture::{
     cell_tones, smoothstep, spacing, texture_frames, Ink, TextureKind, TextureParams,
 };
@@ -67,8 +66,12 @@ pub(super) fn svg_of_laid(
     match look {
         Look::Mosaic(p) => {
             let (widths, colours) = super::mosaic::glass(scene, p, scene.border_px(p.border_width));
+            let lead = linear_of(p.border_colour);
+            let ink = |l: usize, r: usize| {
+                super::mosaic::lead_between(lead, scene.colours[l], scene.colours[r])
+            };
             let border =
-                (p.border_width > 0.0).then_some((p.border_colour, Leading::PerCell(&widths)));
+                (p.border_width > 0.0).then_some((&ink as LeadInk, Leading::PerCell(&widths)));
             let ramps = super::mosaic::relief_ramps(scene, p, &colours);
             cells(&mut out, scene, (&colours, ramps.as_deref()), border);
         }
@@ -78,9 +81,11 @@ pub(super) fn svg_of_laid(
         Look::Texture(p) if p.kind == TextureKind::Stipple => stippled(&mut out, scene, p),
         Look::Texture(p) => {
             let colours = tone_colours(scene, p);
+            let lead = linear_of(p.ink.leading());
+            let ink = move |_: usize, _: usize| lead;
             let border = (p.border_width > 0.0).then(|| {
                 (
-                    p.ink.leading(),
+                    &ink as LeadInk,
                     Leading::Even(scene.border_px(p.border_width)),
                 )
             });
@@ -90,18 +95,12 @@ pub(super) fn svg_of_laid(
             let laid = laid.unwrap_or_else(|| super::glyphs::laid(scene, p));
             glyphs(&mut out, scene, p, &laid);
         }
-        Look::Engraving(p) => engraved(&mut out, scene, p),
+        Look::Engraving(p) => super::svg_engraved::engraved(&mut out, scene, p),
         // Refused above.
         Look::Fabric(_) => {}
     }
     out.push_str("</svg>\n");
     Ok(out)
-}
-
-/// `c` as `#rrggbb`.
-pub(super) fn hex(c: Linear) -> String {
-    let [r, g, b] = c.map(to_srgb);
-    format!("#{r:02x}{g:02x}{b:02x}")
 }
 
 /// A textured cell's colour seen from afar: its ink over paper at the cell's tone.
@@ -151,24 +150,27 @@ impl Traced {
         }
     }
 
-    /// The borders between two cells (not the picture's edge) stroked at `leading`'s width:
-    /// one path per width.
-    fn write_leading(&self, out: &mut String, colour: [u8; 3], leading: Leading) {
-        // Paths by width in tenths of a pixel (as `num` writes it), narrowest first (a fixed
-        // order).
-        let mut paths: std::collections::BTreeMap<u32, String> = Default::default();
+    /// The borders between two cells (not the picture's edge) stroked in `ink` at `leading`'s
+    /// width: one path per width and colour.
+    fn write_leading(&self, out: &mut String, ink: LeadInk, leading: Leading) {
+        // Paths by width in tenths of a pixel (as `num` writes it), narrowest first, then by
+        // colour (a fixed order).
+        let mut paths: std::collections::BTreeMap<(u32, String), String> = Default::default();
         for (chain, s) in self.borders.chains.iter().zip(&self.simplified) {
             if chain.left >= 0 && chain.right >= 0 {
+                let (left, right) = (chain.left as usize, chain.right as usize);
                 let width = match leading {
                     Leading::Even(w) => w,
-                    Leading::PerCell(w) => w[chain.left as usize].min(w[chain.right as usize]),
+                    Leading::PerCell(w) => w[left].min(w[right]),
                 };
-                let key = (width * 10.0).round().max(0.0) as u32;
+                let key = (
+                    (width * 10.0).round().max(0.0) as u32,
+                    hex(ink(left, right)),
+                );
                 path_data(paths.entry(key).or_default(), s, false);
             }
         }
-        let ink = hex(linear_of(colour));
-        for (key, d) in paths.iter().filter(|(&key, _)| key > 0) {
+        for ((key, ink), d) in paths.iter().filter(|((key, _), _)| *key > 0) {
             let _ = writeln!(
                 out,
                 r#"<path fill="none" stroke="{ink}" stroke-width="{}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,
@@ -177,6 +179,9 @@ impl Traced {
         }
     }
 }
+
+/// The leading's colour along a border between cells `left` and `right` (linear light).
+type LeadInk<'a> = &'a dyn Fn(usize, usize) -> Linear;
 
 /// How wide the leading between cells is, in output pixels.
 #[derive(Clone, Copy)]
@@ -195,7 +200,7 @@ fn cells(
     out: &mut String,
     scene: &Scene,
     (colours, ramps): (&[Linear], Option<&[Option<super::mosaic::Ramp>]>),
-    border: Option<([u8; 3], Leading)>,
+    border: Option<(LeadInk, Leading)>,
 ) {
     let traced = Traced::new(scene);
     // Without leading, a hairline of the cell's own colour hides the seams anti-aliasing
@@ -307,9 +312,10 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
+        let lead = linear_of(p.ink.leading());
         traced.write_leading(
             out,
-            p.ink.leading(),
+            &move |_, _| lead,
             Leading::Even(scene.border_px(p.border_width)),
         );
     }
@@ -391,9 +397,10 @@ fn stippled(out: &mut String, scene: &Scene, p: &TextureParams) {
         );
     }
     if p.border_width > 0.0 {
+        let lead = linear_of(p.ink.leading());
         traced.write_leading(
             out,
-            p.ink.leading(),
+            &move |_, _| lead,
             Leading::Even(scene.border_px(p.border_width)),
         );
     }
@@ -429,98 +436,6 @@ fn family(d: &mut String, rings: &[Vec<[f32; 2]>], angle: f64, spacing: f64, sca
             &[point(t_range.0 - spacing), point(t_range.1 + spacing)],
             false,
         );
-    }
-}
-
-/// Appends `M x y x y … [Z]` for `points`.
-pub(super) fn path_data(d: &mut String, points: &[[f32; 2]], close: bool) {
-    for (k, p) in points.iter().enumerate() {
-        let _ = write!(
-            d,
-            "{}{} {}",
-            if k == 0 { "M" } else { " " },
-            num(p[0]),
-            num(p[1])
-        );
-    }
-    if close {
-        d.push('Z');
-    }
-}
-
-/// A coordinate printed with at most one decimal (no allocation: it formats in place).
-#[derive(Clone, Copy)]
-struct Num(f32);
-
-impl std::fmt::Display for Num {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let r = (self.0 * 10.0).round() / 10.0;
-        if r == r.trunc() {
-            write!(f, "{}", r as i64)
-        } else {
-            write!(f, "{r:.1}")
-        }
-    }
-}
-
-fn num(v: f32) -> Num {
-    Num(v)
-}
-
-/// Writes the engraving of `scene`: paper, then every line as filled outlines whose width
-/// follows the raster's (its two sides as far from the line as its ink reaches on each), one
-/// per run of points in one ink: the engraving's, or in the dark tones the darker ink the
-/// raster lays there ([`engrave_with_inks`]). The outlines of one ink are the subpaths of one
-/// path: a renderer finds the coverage of a path's union at once, so two lines a hair apart
-/// ink the pixel between them as the raster does. As separate shapes each was blended over
-/// the other, and a pixel both half covered read a quarter paper: the dark tones, whose lines
-/// leave slits of paper finer than a pixel, read 6 to 12 levels light (greys 30 and 40 read 42
-/// and 51, now 30 and 40).
-fn engraved(out: &mut String, scene: &Scene, params: &EngravingParams) {
-    let r = scene.raster;
-    let scale = r.pixels_per_domain_unit();
-    let ppu = scale.x.min(scale.y);
-    let _ = writeln!(
-        out,
-        r#"<rect width="100%" height="100%" fill="{}"/>"#,
-        hex(linear_of(params.paper))
-    );
-    let (e, inks) = engrave_with_inks(scene, params);
-    // Path data per ink (`None`: the engraving's own), in a fixed order.
-    let mut paths: std::collections::BTreeMap<Option<[u8; 3]>, String> = Default::default();
-    let mut outline = Vec::new();
-    for ((line, sides), inks) in e.lines.iter().zip(&e.sides).zip(&inks) {
-        let pts = &line.points;
-        if pts.len() < 2 || sides.iter().all(|&[l, r]| (l + r) * ppu < 0.05) {
-            continue;
-        }
-        // Runs of one ink, each drawn one segment into the next: shapes of two inks that only
-        // abut leave a renderer's anti-aliasing seam between them, a speck of paper in a dark
-        // area.
-        let mut start = 0;
-        while start + 1 < pts.len() {
-            let ink = inks[start];
-            let mut end = start + 1;
-            while end + 1 < pts.len() && inks[end] == ink {
-                end += 1;
-            }
-            outline.clear();
-            let last = (end + 1).min(pts.len() - 1);
-            for i in start..=last {
-                let q = (pts[i] + normal_at(pts, i) * sides[i][0]) * scale;
-                outline.push([q.x as f32, q.y as f32]);
-            }
-            for i in (start..=last).rev() {
-                let q = (pts[i] - normal_at(pts, i) * sides[i][1]) * scale;
-                outline.push([q.x as f32, q.y as f32]);
-            }
-            path_data(paths.entry(ink).or_default(), &outline, true);
-            start = end;
-        }
-    }
-    for (ink, d) in &paths {
-        let fill = hex(linear_of(ink.unwrap_or(params.ink)));
-        let _ = writeln!(out, r#"<path fill="{fill}" d="{d}"/>"#);
     }
 }
 

@@ -10,7 +10,8 @@
 //! The copy is a PNG (RGB, 8 bits) in a `data:` URI, base64 as RFC 4648 writes it.
 
 use super::colour::linear_of;
-use super::svg::{hex, path_data, TRACE_TOLERANCE_PX};
+use super::svg::TRACE_TOLERANCE_PX;
+use super::svg_path::{hex, path_data};
 use super::trace::{rings, simplify, Borders};
 use image::{ImageEncoder, RgbImage};
 use std::fmt::Write as _;

@@ -1,0 +1,48 @@
+//! What every SVG the looks write is made of ([`svg`](super::svg), `svg_engraved.rs`,
+//! `svg_outlines.rs`): colours as `#rrggbb` and path data with coordinates at a tenth of a
+//! pixel.
+
+use super::colour::{to_srgb, Linear};
+use std::fmt::Write;
+
+/// `c` as `#rrggbb`.
+pub(super) fn hex(c: Linear) -> String {
+    let [r, g, b] = c.map(to_srgb);
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// Appends `M x y x y … [Z]` for `points`.
+pub(super) fn path_data(d: &mut String, points: &[[f32; 2]], close: bool) {
+    for (k, p) in points.iter().enumerate() {
+        let _ = write!(
+            d,
+            "{}{} {}",
+            if k == 0 { "M" } else { " " },
+            num(p[0]),
+            num(p[1])
+        );
+    }
+    if close {
+        d.push('Z');
+    }
+}
+
+/// A coordinate printed with at most one decimal (no allocation: it formats in place).
+#[derive(Clone, Copy)]
+pub(super) struct Num(f32);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let r = (self.0 * 10.0).round() / 10.0;
+        if r == r.trunc() {
+            write!(f, "{}", r as i64)
+        } else {
+            write!(f, "{r:.1}")
+        }
+    }
+}
+
+/// `v` as [`Num`] prints it.
+pub(super) fn num(v: f32) -> Num {
+    Num(v)
+}
