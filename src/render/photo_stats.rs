@@ -56,8 +56,8 @@ pub(super) fn colour_spread(photo: &RgbImage) -> f64 {
 
 /// The grain of `photo` in levels: Immerkær's robust noise estimate (*Fast Noise Variance
 /// Estimation*, 1996, as the metric's [`noise`](crate::field::noise) takes it in linear
-/// light), the median of `|N * I|` with `N = [1 −2 1; −2 4 −2; 1 −2 1]` over every other row
-/// and column of the interior, divided by `0.6745·6` (white noise of deviation σ gives σ),
+/// light), the median of `|N * I|` with `N = [1 −2 1; −2 4 −2; 1 −2 1]` over every fourth row
+/// and column of the interior ([`GRAIN_STRIDE`]), divided by `0.6745·6` (white noise of deviation σ gives σ),
 /// the largest over the channels. Smooth shading and edges covering under half the picture
 /// give 0. 0 for photos under 3 × 3.
 #[must_use]
@@ -67,22 +67,21 @@ pub(super) fn grain_sigma(photo: &RgbImage) -> f64 {
         return 0.0;
     }
     let raw = photo.as_raw();
-    let at = |x: usize, y: usize, c: usize| i32::from(raw[3 * (y * w + x) + c]);
+    let row = |y: usize| &raw[3 * y * w..3 * (y + 1) * w];
     let empty = || [0; 3].map(|_| vec![0u32; MAX_RESPONSE + 1]);
     let counts = (1..h - 1)
         .into_par_iter()
-        .step_by(2)
-        .with_min_len(64)
+        .step_by(GRAIN_STRIDE)
+        .with_min_len(16)
         .fold(empty, |mut counts, y| {
-            for x in (1..w - 1).step_by(2) {
+            let (above, here, below) = (row(y - 1), row(y), row(y + 1));
+            for x in (1..w - 1).step_by(GRAIN_STRIDE) {
+                let (l, m, r) = (3 * (x - 1), 3 * x, 3 * (x + 1));
                 for (c, histogram) in counts.iter_mut().enumerate() {
-                    let corners = at(x - 1, y - 1, c)
-                        + at(x + 1, y - 1, c)
-                        + at(x - 1, y + 1, c)
-                        + at(x + 1, y + 1, c);
-                    let sides =
-                        at(x, y - 1, c) + at(x - 1, y, c) + at(x + 1, y, c) + at(x, y + 1, c);
-                    let response = corners - 2 * sides + 4 * at(x, y, c);
+                    let v = |line: &[u8], i: usize| i32::from(line[i + c]);
+                    let corners = v(above, l) + v(above, r) + v(below, l) + v(below, r);
+                    let sides = v(above, m) + v(here, l) + v(here, r) + v(below, m);
+                    let response = corners - 2 * sides + 4 * v(here, m);
                     histogram[response.unsigned_abs() as usize] += 1;
                 }
             }
@@ -113,6 +112,11 @@ pub(super) fn grain_sigma(photo: &RgbImage) -> f64 {
         })
         .fold(0.0, f64::max)
 }
+
+/// [`grain_sigma`] reads every this many rows and columns: a sixteenth of the pixels, plenty
+/// for a median (a 12 MP photo took 17–30 ms at every other row and column beside the
+/// sampler, 7 ms now).
+const GRAIN_STRIDE: usize = 4;
 
 /// The largest `|N * I|` of 8-bit values: 16 × 255.
 const MAX_RESPONSE: usize = 16 * 255;
