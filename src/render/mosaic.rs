@@ -65,6 +65,13 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
     let (leading, colours) = glass(scene, params, width);
+    // Each cell's leading on its own ([`lead_between`] of the cell and itself): a border's is
+    // the darker of its two cells', channel by channel.
+    let leads: Vec<Linear> = scene
+        .colours
+        .iter()
+        .map(|&c| lead_between(border, c, c))
+        .collect();
     // The cell's colour with its relief at `p`: lit where the dome faces the light.
     let inside = |p: DVec2, site: u32| {
         let (site, c) = (site as usize, colours[site as usize]);
@@ -86,9 +93,15 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
             if width > 0.0 {
                 let second = leading.get(o.second as usize).copied().unwrap_or(width);
                 let w = leading[o.site as usize].min(second);
-                let own = scene.colours[o.site as usize];
-                let other = scene.colours.get(o.second as usize).copied().unwrap_or(own);
-                mix(c, lead_between(border, own, other), border_coverage(o, w))
+                let cover = border_coverage(o, w);
+                if cover <= 0.0 {
+                    return c;
+                }
+                let own = leads[o.site as usize];
+                let lead = leads
+                    .get(o.second as usize)
+                    .map_or(own, |other| std::array::from_fn(|i| own[i].min(other[i])));
+                mix(c, lead, cover)
             } else {
                 c
             }
