@@ -8,9 +8,10 @@
 //! of the picture take leading narrowed in proportion ([`leading_widths`], shared with the
 //! SVG), so small type and fine detail stay readable. The glass is lifted by the share of the
 //! cell its leading covers (`lit_through_leading`), so the picture seen from afar keeps the
-//! photo's tones. Relief lights each cell as a dome `1 − δ_i²` over its ellipse from the upper
-//! left (GEGL's mosaic has a bevel of the same kind), its slope linear in the position, from
-//! one vector per cell (`dome_tilts`).
+//! photo's tones; the leading is never lighter than half the darker glass beside it
+//! (`lead_between`), so dark glass is not crossed by a grey web. Relief lights each cell as
+//! a dome `1 − δ_i²` over its ellipse from the upper left (GEGL's mosaic has a bevel of the
+//! same kind), its slope linear in the position, from one vector per cell (`dome_tilts`).
 //! Shading is `f32` in linear light.
 
 use super::colour::{mix, salt, site_hash, Linear};
@@ -229,9 +230,9 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Line
             // that keeps them all under white: a channel clamped alone turned light skin white
             // (240, 210, 190 → 255, 255, 240), where this keeps its hue (255, 225, 207).
             let target = c.map(linear_to_srgb);
+            let lead = lead_between(lead, c, c);
             let mut v = c;
             for _ in 0..3 {
-                let lead = lead_between(lead, c, c);
                 let lift: [f32; 3] = std::array::from_fn(|k| per_area * darkening(v[k], lead[k]));
                 let share = (0..3)
                     .filter(|&k| lift[k] > 0.0)
