@@ -9,7 +9,7 @@
 //! SVG), so small type and fine detail stay readable. The glass is lifted by the share of the
 //! cell its leading covers (`lit_through_leading`), so the picture seen from afar keeps the
 //! photo's tones; the leading is never lighter than half the darker glass beside it
-//! (`lead_between`), so dark glass is not crossed by a grey web. Relief lights each cell as
+//! ([`Glass::leads`]), so dark glass is not crossed by a grey web. Relief lights each cell as
 //! a dome `1 − δ_i²` over its ellipse from the upper left (GEGL's mosaic has a bevel of the
 //! same kind), its slope linear in the position, from one vector per cell (`dome_tilts`).
 //! Shading is `f32` in linear light.
@@ -62,17 +62,13 @@ impl MosaicParams {
 /// Renders the mosaic of `scene`.
 #[must_use]
 pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
-    let border = super::colour::linear_of(params.border_colour);
     let width = scene.border_px(params.border_width);
     let tilts = (params.relief > 0.0).then(|| dome_tilts(scene));
-    let (leading, colours) = glass(scene, params, width);
-    // Each cell's leading on its own ([`lead_between`] of the cell and itself): a border's is
-    // the darker of its two cells', channel by channel.
-    let leads: Vec<Linear> = scene
-        .colours
-        .iter()
-        .map(|&c| lead_between(border, c, c))
-        .collect();
+    let Glass {
+        leading,
+        colours,
+        leads,
+    } = glass(scene, params, width);
     // The cell's colour with its relief at `p`: lit where the dome faces the light.
     let inside = |p: DVec2, site: u32| {
         let (site, c) = (site as usize, colours[site as usize]);
@@ -98,11 +94,7 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
                 if cover <= 0.0 {
                     return c;
                 }
-                let own = leads[o.site as usize];
-                let lead = leads
-                    .get(o.second as usize)
-                    .map_or(own, |other| std::array::from_fn(|i| own[i].min(other[i])));
-                mix(c, lead, cover)
+                mix(c, lead_between(&leads, o.site, o.second), cover)
             } else {
                 c
             }
@@ -111,12 +103,15 @@ pub fn mosaic(scene: &Scene, params: &MosaicParams) -> RgbImage {
     )
 }
 
-/// The leading's colour between cells of the photo's colours `a` and `b` (their means, before
-/// the glass is lifted): `lead`, but no lighter than [`LEAD_UNDER_GLASS`] of the darker of
-/// the two, channel by channel in linear light. The raster and the SVG both draw this.
+/// The leading's colour on the border between cells `a` and `b` (`b` may be
+/// [`NONE`](super::voronoi::NONE)): the
+/// darker of their [`Glass::leads`], channel by channel. The raster and the SVG both draw this.
 #[must_use]
-pub(super) fn lead_between(lead: Linear, a: Linear, b: Linear) -> Linear {
-    std::array::from_fn(|i| lead[i].min(LEAD_UNDER_GLASS * a[i].min(b[i])))
+pub(super) fn lead_between(leads: &[Linear], a: u32, b: u32) -> Linear {
+    let own = leads[a as usize];
+    leads
+        .get(b as usize)
+        .map_or(own, |other| std::array::from_fn(|i| own[i].min(other[i])))
 }
 
 /// The lightest the leading is beside a cell, as a share of the cell's light (linear): lead
@@ -129,20 +124,39 @@ pub(super) fn lead_between(lead: Linear, a: Linear, b: Linear) -> Linear {
 /// in dark areas fainter.
 const LEAD_UNDER_GLASS: f32 = 0.5;
 
-/// Per cell, the width of its leading in output pixels for borders `width` pixels wide
-/// ([`leading_widths`]) and its glass: the photo's colour lifted for that leading
-/// (`lit_through_leading`) and jittered ([`MosaicParams::jittered`]). The raster and the SVG
-/// both paint these.
+/// What the raster and the SVG paint of every cell of a mosaic.
+pub struct Glass {
+    /// The width of the cell's leading in output pixels ([`leading_widths`]).
+    pub leading: Vec<f32>,
+    /// Its glass: the photo's colour lifted for that leading (`lit_through_leading`) and
+    /// jittered ([`MosaicParams::jittered`]).
+    pub colours: Vec<Linear>,
+    /// Its leading's colour: the preset's, but no lighter than `LEAD_UNDER_GLASS` of the
+    /// cell's photo colour, channel by channel in linear light (a border takes the darker of
+    /// its two cells', `lead_between`).
+    pub leads: Vec<Linear>,
+}
+
+/// The [`Glass`] of every cell of `scene` for borders `width` pixels wide.
 #[must_use]
-pub fn glass(scene: &Scene, params: &MosaicParams, width: f32) -> (Vec<f32>, Vec<Linear>) {
+pub fn glass(scene: &Scene, params: &MosaicParams, width: f32) -> Glass {
     let leading = leading_widths(scene, width);
     let lead = super::colour::linear_of(params.border_colour);
-    let colours = lit_through_leading(scene, &leading, lead)
+    let leads: Vec<Linear> = scene
+        .colours
+        .iter()
+        .map(|c| std::array::from_fn(|i| lead[i].min(LEAD_UNDER_GLASS * c[i])))
+        .collect();
+    let colours = lit_through_leading(scene, &leading, &leads)
         .into_iter()
         .enumerate()
         .map(|(i, c)| params.jittered(c, i as u32))
         .collect();
-    (leading, colours)
+    Glass {
+        leading,
+        colours,
+        leads,
+    }
 }
 
 /// Per cell, the width of the leading round it in output pixels: `width` for cells at least
@@ -191,7 +205,7 @@ pub fn leading_widths(scene: &Scene, width: f32) -> Vec<f32> {
 /// `E(c') − (P/A)·I(c') = E(c)` per channel, by three fixed-point steps from `c`; where that
 /// would take a channel past white, every channel gets the same share of its lift.
 #[must_use]
-fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Linear> {
+fn lit_through_leading(scene: &Scene, leading: &[f32], leads: &[Linear]) -> Vec<Linear> {
     use crate::field::structure::{linear_to_srgb, srgb_to_linear};
     use rayon::prelude::*;
     let ppu = scene.pixels_per_unit;
@@ -199,8 +213,8 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Line
         .colours
         .par_iter()
         .zip(scene.cells.metrics().par_iter())
-        .zip(leading.par_iter())
-        .map(|((&c, m), &w)| {
+        .zip(leading.par_iter().zip(leads.par_iter()))
+        .map(|((&c, m), (&w, &lead))| {
             let e = m.eigen();
             let (a, b) = (e.l1.abs() * ppu, e.l2.abs() * ppu);
             let area = 2.0 * 3f64.sqrt() * a * b;
@@ -230,7 +244,6 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], lead: Linear) -> Vec<Line
             // that keeps them all under white: a channel clamped alone turned light skin white
             // (240, 210, 190 → 255, 255, 240), where this keeps its hue (255, 225, 207).
             let target = c.map(linear_to_srgb);
-            let lead = lead_between(lead, c, c);
             let mut v = c;
             for _ in 0..3 {
                 let lift: [f32; 3] = std::array::from_fn(|k| per_area * darkening(v[k], lead[k]));

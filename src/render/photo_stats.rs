@@ -14,52 +14,59 @@ pub(super) fn colour_spread(photo: &RgbImage) -> f64 {
     let counts = photo
         .as_raw()
         .par_chunks(3 * 4 * 4096)
-        .map(|chunk| {
-            let mut counts = [[0u32; 256]; 3];
-            for px in chunk.chunks_exact(3).step_by(4) {
-                for (k, &v) in px.iter().enumerate() {
-                    counts[k][usize::from(v)] += 1;
-                }
-            }
-            counts
-        })
-        .reduce(
-            || [[0u32; 256]; 3],
-            |mut a, b| {
-                for (a, b) in a.iter_mut().zip(&b) {
-                    for (a, b) in a.iter_mut().zip(b) {
-                        *a += b;
+        .fold(
+            || histograms(256),
+            |mut counts, chunk| {
+                for px in chunk.chunks_exact(3).step_by(4) {
+                    for (histogram, &v) in counts.iter_mut().zip(px) {
+                        histogram[usize::from(v)] += 1;
                     }
                 }
-                a
+                counts
             },
-        );
+        )
+        .reduce(|| histograms(256), summed);
     counts
         .iter()
-        .map(|c| {
-            let total: u32 = c.iter().sum();
-            // The first value at or past share `q` of the pixels.
-            let at = |q: f64| {
-                let want = ((q * f64::from(total)).ceil() as u32).max(1);
-                let mut seen = 0;
-                c.iter()
-                    .position(|&n| {
-                        seen += n;
-                        seen >= want
-                    })
-                    .unwrap_or(255)
-            };
-            (at(0.99) as f64 - at(0.01) as f64) / 255.0
-        })
+        .map(|c| (quantile(c, 0.99) as f64 - quantile(c, 0.01) as f64) / 255.0)
         .fold(0.0, f64::max)
+}
+
+/// Three empty histograms of `bins` values, one per channel.
+fn histograms(bins: usize) -> [Vec<u32>; 3] {
+    [0; 3].map(|_| vec![0u32; bins])
+}
+
+/// Per channel, the counts of `a` and `b` together.
+fn summed(mut a: [Vec<u32>; 3], b: [Vec<u32>; 3]) -> [Vec<u32>; 3] {
+    for (a, b) in a.iter_mut().zip(&b) {
+        for (a, b) in a.iter_mut().zip(b) {
+            *a += b;
+        }
+    }
+    a
+}
+
+/// The first value of `histogram` at or past share `q` of its counts (0 for none).
+fn quantile(histogram: &[u32], q: f64) -> usize {
+    let total: u64 = histogram.iter().map(|&n| u64::from(n)).sum();
+    let want = ((q * total as f64).ceil() as u64).max(1);
+    let mut seen = 0u64;
+    histogram
+        .iter()
+        .position(|&n| {
+            seen += u64::from(n);
+            seen >= want
+        })
+        .unwrap_or(0)
 }
 
 /// The grain of `photo` in levels: Immerkær's robust noise estimate (*Fast Noise Variance
 /// Estimation*, 1996, as the metric's [`noise`](crate::field::noise) takes it in linear
 /// light), the median of `|N * I|` with `N = [1 −2 1; −2 4 −2; 1 −2 1]` over every fourth row
-/// and column of the interior ([`GRAIN_STRIDE`]), divided by `0.6745·6` (white noise of deviation σ gives σ),
-/// the largest over the channels. Smooth shading and edges covering under half the picture
-/// give 0. 0 for photos under 3 × 3.
+/// and column of the interior ([`GRAIN_STRIDE`]), divided by `0.6745·6` (white noise of
+/// deviation σ gives σ), the largest over the channels. Smooth shading and edges covering
+/// under half the picture give 0. 0 for photos under 3 × 3.
 #[must_use]
 pub(super) fn grain_sigma(photo: &RgbImage) -> f64 {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
@@ -68,7 +75,7 @@ pub(super) fn grain_sigma(photo: &RgbImage) -> f64 {
     }
     let raw = photo.as_raw();
     let row = |y: usize| &raw[3 * y * w..3 * (y + 1) * w];
-    let empty = || [0; 3].map(|_| vec![0u32; MAX_RESPONSE + 1]);
+    let empty = || histograms(MAX_RESPONSE + 1);
     let counts = (1..h - 1)
         .into_par_iter()
         .step_by(GRAIN_STRIDE)
@@ -87,29 +94,10 @@ pub(super) fn grain_sigma(photo: &RgbImage) -> f64 {
             }
             counts
         })
-        .reduce(empty, |mut a, b| {
-            for (a, b) in a.iter_mut().zip(&b) {
-                for (a, b) in a.iter_mut().zip(b) {
-                    *a += b;
-                }
-            }
-            a
-        });
+        .reduce(empty, summed);
     counts
         .iter()
-        .map(|histogram| {
-            let total: u64 = histogram.iter().map(|&n| u64::from(n)).sum();
-            let half = total.div_ceil(2).max(1);
-            let mut seen = 0u64;
-            let median = histogram
-                .iter()
-                .position(|&n| {
-                    seen += u64::from(n);
-                    seen >= half
-                })
-                .unwrap_or(0);
-            median as f64 / (0.6745 * 6.0)
-        })
+        .map(|histogram| quantile(histogram, 0.5) as f64 / (0.6745 * 6.0))
         .fold(0.0, f64::max)
 }
 

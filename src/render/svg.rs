@@ -14,13 +14,13 @@
 //! Coordinates are output pixels with one decimal; colours are sRGB hex.
 
 use super::blurred_photo::BlurredPhoto;
-use super::colour::{linear_of, mix, Linear};
+use super::colour::{linear_of, mix, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
 use super::stipple::{dab_colour, dot, stipple_radius};
-use super::svg_path::{hex, num, path_data};
+use super::svg_path::{hex, hex_of_srgb, num, path_data};
 use super::texture::{
     cell_tones, smoothstep, spacing, texture_frames, Ink, TextureKind, TextureParams,
 };
@@ -65,13 +65,12 @@ pub(super) fn svg_of_laid(
     );
     match look {
         Look::Mosaic(p) => {
-            let (widths, colours) = super::mosaic::glass(scene, p, scene.border_px(p.border_width));
-            let lead = linear_of(p.border_colour);
-            let ink = |l: usize, r: usize| {
-                super::mosaic::lead_between(lead, scene.colours[l], scene.colours[r])
-            };
-            let border =
-                (p.border_width > 0.0).then_some((&ink as LeadInk, Leading::PerCell(&widths)));
+            let glass = super::mosaic::glass(scene, p, scene.border_px(p.border_width));
+            let ink =
+                |l: usize, r: usize| super::mosaic::lead_between(&glass.leads, l as u32, r as u32);
+            let border = (p.border_width > 0.0)
+                .then_some((&ink as LeadInk, Leading::PerCell(&glass.leading)));
+            let colours = glass.colours;
             let ramps = super::mosaic::relief_ramps(scene, p, &colours);
             cells(&mut out, scene, (&colours, ramps.as_deref()), border);
         }
@@ -155,7 +154,7 @@ impl Traced {
     fn write_leading(&self, out: &mut String, ink: LeadInk, leading: Leading) {
         // Paths by width in tenths of a pixel (as `num` writes it), narrowest first, then by
         // colour (a fixed order).
-        let mut paths: std::collections::BTreeMap<(u32, String), String> = Default::default();
+        let mut paths: std::collections::BTreeMap<(u32, [u8; 3]), String> = Default::default();
         for (chain, s) in self.borders.chains.iter().zip(&self.simplified) {
             if chain.left >= 0 && chain.right >= 0 {
                 let (left, right) = (chain.left as usize, chain.right as usize);
@@ -165,12 +164,13 @@ impl Traced {
                 };
                 let key = (
                     (width * 10.0).round().max(0.0) as u32,
-                    hex(ink(left, right)),
+                    ink(left, right).map(to_srgb),
                 );
                 path_data(paths.entry(key).or_default(), s, false);
             }
         }
         for ((key, ink), d) in paths.iter().filter(|((key, _), _)| *key > 0) {
+            let ink = hex_of_srgb(*ink);
             let _ = writeln!(
                 out,
                 r#"<path fill="none" stroke="{ink}" stroke-width="{}" stroke-linejoin="round" stroke-linecap="round" d="{d}"/>"#,

@@ -7,7 +7,11 @@ use std::fmt::Write;
 
 /// `c` as `#rrggbb`.
 pub(super) fn hex(c: Linear) -> String {
-    let [r, g, b] = c.map(to_srgb);
+    hex_of_srgb(c.map(to_srgb))
+}
+
+/// sRGB bytes as `#rrggbb`.
+pub(super) fn hex_of_srgb([r, g, b]: [u8; 3]) -> String {
     format!("#{r:02x}{g:02x}{b:02x}")
 }
 

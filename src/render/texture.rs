@@ -326,7 +326,7 @@ pub fn textured(scene: &Scene, params: &TextureParams) -> RgbImage {
             let cover = match dots {
                 // A tone of solid ink leaves no paper in the gaps of the dots' lattice (their
                 // radius inks every point of the table's sampling of it, not every pixel).
-                Some(_) if darkness >= 1.0 => 1.0,
+                Some(_) if solid => 1.0,
                 Some(dots) => dots.cover(),
                 None => {
                     let centre = scene.cells.positions()[site as usize];
