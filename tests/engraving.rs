@@ -521,3 +521,27 @@ fn round_forms_keep_their_lines() {
         }
     }
 }
+
+#[test]
+fn lines_along_the_border_leave_no_strip_of_paper() {
+    // Dark bands across the picture: the lines run along its top and bottom borders. With no
+    // line beyond the border, the line nearest to it answered for half a spacing of paper
+    // only, and the strip between it and the border stayed paper: in dark tones the top and
+    // bottom rows were dotted with paper (480 of their 1 440 pixels at three spacings). The
+    // strip up to the border is that line's paper: none now.
+    let photo = RgbImage::from_fn(W, H, |_, y| {
+        image::Rgb([(28.0 + 14.0 * (f64::from(y) / 23.0).sin()).round() as u8; 3])
+    });
+    let (mut paper, mut pixels) = (0, 0);
+    for spacing in [0.007, 0.01, SPACING] {
+        let img = engrave_at(photo.clone(), spacing, 0.0);
+        for (x, y) in (0..W).flat_map(|x| [(x, 0), (x, H - 1)]) {
+            pixels += 1;
+            paper += usize::from(ink(&img, x, y) < 0.25);
+        }
+    }
+    assert!(
+        paper * 100 < pixels,
+        "{paper} of {pixels} pixels of the top and bottom rows are paper"
+    );
+}

@@ -143,14 +143,16 @@ pub(super) struct SampleArgs {
     /// Write the anisotropic Delaunay triangles as CSV: a,b,c (rows of --out).
     #[arg(long)]
     triangles: Option<PathBuf>,
-    /// Maximum number of relaxation iterations [default: the preset's, 100].
+    /// Maximum number of relaxation iterations; a lattice seed runs 70 % of them [default:
+    /// the preset's, 100].
     #[arg(long)]
     iterations: Option<usize>,
     /// Seed of the random numbers: the same seed gives the same samples [default: the
     /// preset's, 0].
     #[arg(long)]
     seed: Option<u64>,
-    /// Repair the triangulation and control the population every this many iterations.
+    /// Repair the triangulation and control the population every this many iterations (a
+    /// lattice seed controls it twice as often).
     #[arg(long, default_value_t = crate::sampling::SamplerParams::default().repair_every)]
     repair_every: usize,
     /// Refuse fields that need more samples than this.

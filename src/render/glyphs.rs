@@ -464,7 +464,7 @@ fn placed_and_share(scene: &Scene, params: &GlyphParams) -> (Vec<(DVec2, Tensor,
     }
     let at_samples = params.placement == Placement::Relaxed && scene.photo.is_some();
     if let (Shape::Brush, true, Some(angle)) = (params.shape, at_samples, params.flat_angle) {
-        super::flat_strokes::lay_flat(scene, &mut glyphs, f64::from(angle).to_radians());
+        super::flat_strokes::lay_long_strokes(scene, &mut glyphs, f64::from(angle).to_radians());
     }
     if params.shape == Shape::Brush {
         let area = |m: &Tensor| m.det().abs();

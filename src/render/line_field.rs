@@ -95,6 +95,29 @@ impl Directions {
         Self::of(metric, &data)
     }
 
+    /// The line field of a photo's `metric` ([`Self::of_photo`]) at the scale of the mean
+    /// radius of `count` cells over its domain, on the metric's grid coarsened to about half
+    /// that radius between nodes (the blurs, up to 24 radii, cost the cube of the grid's
+    /// fineness: at 12 MP, 525 × 350 nodes 8 px apart took 73 ms against 8 ms at 16 px). What
+    /// the brush strokes of flat areas and the fabric's and LIC's streamlines follow.
+    #[must_use]
+    pub fn at_cell_scale(metric: &TensorField, flat_angle: f64, count: usize) -> Self {
+        let d = metric.domain();
+        let radius = (d.x * d.y / count.max(1) as f64 / std::f64::consts::PI).sqrt();
+        let factor = (0.5 * radius / metric.spacing()).floor();
+        if factor >= 2.0 {
+            Self::of_photo(&metric.coarsened(factor as usize), flat_angle, radius)
+        } else {
+            Self::of_photo(metric, flat_angle, radius)
+        }
+    }
+
+    /// The direction tensors: at every node, the lines' direction is the long axis.
+    #[must_use]
+    pub fn tensors(&self) -> &TensorField {
+        &self.nodes
+    }
+
     /// The field of direction tensors `data` (three per node of `metric`'s grid).
     fn of(metric: &TensorField, data: &[f32]) -> Self {
         let mut nodes = metric.clone();

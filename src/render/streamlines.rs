@@ -260,6 +260,7 @@ fn aligned(v: DVec2, reference: DVec2) -> DVec2 {
 
 /// Line points bucketed in square cells of `d_sep`.
 struct Occupancy {
+    domain: DVec2,
     cell: f64,
     cols: usize,
     rows: usize,
@@ -274,6 +275,7 @@ impl Occupancy {
         let cols = (domain.x / cell).ceil().max(1.0) as usize;
         let rows = (domain.y / cell).ceil().max(1.0) as usize;
         Occupancy {
+            domain,
             cell,
             cols,
             rows,
@@ -300,6 +302,7 @@ impl Occupancy {
             offsets.push(points.len() as u32);
         }
         PackedGrid {
+            domain: self.domain,
             cell: self.cell,
             cols: self.cols,
             rows: self.rows,
@@ -369,6 +372,8 @@ fn cell_of(p: DVec2, cell: f64, cols: usize, rows: usize) -> (usize, usize) {
 /// contiguous run instead of five separate vectors (the shares were an eighth of an
 /// engraving).
 struct PackedGrid {
+    /// The picture's domain: beyond its border no line shares the paper.
+    domain: DVec2,
     cell: f64,
     cols: usize,
     rows: usize,
@@ -391,7 +396,12 @@ impl PackedGrid {
     }
 
     /// Point `i` of line `line`'s shares across the lines: half the gap to the nearest other
-    /// line on its left (along [`normal_at`]) and half that on its right.
+    /// line on its left (along [`normal_at`]) and half that on its right; with no line on a
+    /// side but the picture's border within [`GAP_REACH`], the whole strip up to the border.
+    /// (As half a spacing, that strip was paper along a border the lines run beside: a third
+    /// of the top and bottom rows of dark bands, a dotted edge on a dark lake; `tone.py`, seed
+    /// 7, engraving on 22 held-out pictures 36.76 → 37.20 dB, SSIM 0.9601 → 0.9607, recall
+    /// 0.9267 → 0.9274; on 13 photos 33.84 → 34.16 dB; none worse.)
     fn halves(&self, points: &[DVec2], i: usize, line: u32, d_sep: f64) -> [f64; 2] {
         let p = points[i];
         let n = normal_at(points, i);
@@ -421,8 +431,35 @@ impl PackedGrid {
                 found_right = true;
             }
         }
-        [0.5 * left, 0.5 * right]
+        // No line beyond, but the picture's border within reach: the strip up to it can take
+        // no line of its own, and is this line's paper.
+        let share = |found: bool, gap: f64, dir: DVec2| {
+            let border = (!found)
+                .then(|| border_along(p, dir, self.domain))
+                .flatten();
+            border.filter(|&b| b < reach).unwrap_or(0.5 * gap)
+        };
+        [share(found_left, left, n), share(found_right, right, -n)]
     }
+}
+
+/// How far from `p`, inside `domain`, the border lies along the unit direction `dir`; `None`
+/// for a point outside (the lines run on past the border) or a direction that meets none.
+fn border_along(p: DVec2, dir: DVec2, domain: DVec2) -> Option<f64> {
+    if !(p.x >= 0.0 && p.y >= 0.0 && p.x <= domain.x && p.y <= domain.y) {
+        return None;
+    }
+    let along = |at: f64, d: f64, end: f64| {
+        if d > 0.0 {
+            (end - at) / d
+        } else if d < 0.0 {
+            -at / d
+        } else {
+            f64::INFINITY
+        }
+    };
+    let t = along(p.x, dir.x, domain.x).min(along(p.y, dir.y, domain.y));
+    t.is_finite().then_some(t)
 }
 
 /// The unit normal of a polyline at point `i` (its left, the tangent turned a quarter), from
@@ -437,6 +474,20 @@ pub fn normal_at(points: &[DVec2], i: usize) -> DVec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn border_along_is_the_distance_to_the_first_border_met() {
+        let domain = DVec2::new(100.0, 50.0);
+        let p = DVec2::new(10.0, 5.0);
+        assert_eq!(border_along(p, DVec2::NEG_Y, domain), Some(5.0));
+        assert_eq!(border_along(p, DVec2::X, domain), Some(90.0));
+        assert_eq!(border_along(p, DVec2::NEG_X, domain), Some(10.0));
+        // Diagonally down and right the bottom (45 below) comes before the right (90 across).
+        let t = border_along(p, DVec2::ONE.normalize(), domain).unwrap();
+        assert!((t - 45.0 * 2f64.sqrt()).abs() < 1e-9, "{t}");
+        assert_eq!(border_along(DVec2::new(-1.0, 5.0), DVec2::X, domain), None);
+        assert_eq!(border_along(p, DVec2::ZERO, domain), None);
+    }
 
     /// The grid holding one line, `points` (line 0), packed.
     fn grid_of(points: &[DVec2], d_sep: f64) -> PackedGrid {

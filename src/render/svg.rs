@@ -16,6 +16,7 @@
 use super::blurred_photo::BlurredPhoto;
 use super::colour::{linear_of, mix, to_srgb, Linear};
 use super::glyphs::{GlyphParams, Shape};
+use super::hatch_lines::{cross_hatch_layers, LAYER_ANGLES};
 use super::look::Look;
 use super::raster::label_map;
 use super::scene::Scene;
@@ -28,7 +29,6 @@ use super::trace::{rings, simplify, Borders};
 use crate::error::Result;
 use crate::field::Tensor;
 use glam::DVec2;
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::fmt::Write;
 
 /// Largest distance of a traced border from the pixel staircase it simplifies, in output
@@ -279,20 +279,19 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
                 hex(mix(paper, ink, tint))
             );
         }
-        let layers: &[f64] = match (&p.kind, w) {
-            (TextureKind::CrossHatch, w) if w >= 0.6 => &[0.0, FRAC_PI_2, FRAC_PI_4],
-            (TextureKind::CrossHatch, w) if w >= 0.3 => &[0.0, FRAC_PI_2],
-            _ => &[0.0],
+        // The raster's layers (`cross_hatch_layers`) at the cell's tone, each its own width.
+        let (widths, k) = match p.kind {
+            TextureKind::CrossHatch => cross_hatch_layers(w),
+            _ => ([w, 0.0, 0.0], 1),
         };
-        // Each of k layers covers x with 1 − (1 − x)^k = w.
-        let x = 1.0 - (1.0 - w).powf(1.0 / layers.len() as f32);
         let spacing = spacing(frame.b, p, px);
-        let width = f64::from(x) * spacing * (sx * sy).sqrt();
-        if width < 0.05 {
-            continue;
-        }
-        lines.clear();
-        for &phi in layers {
+        let mut clipped = false;
+        for (&phi, &x) in LAYER_ANGLES.iter().zip(&widths).take(k) {
+            let width = f64::from(x) * spacing * (sx * sy).sqrt();
+            if width < 0.05 {
+                continue;
+            }
+            lines.clear();
             family(
                 &mut lines,
                 &traced.rings[i],
@@ -300,16 +299,20 @@ fn hatched(out: &mut String, scene: &Scene, p: &TextureParams) {
                 spacing,
                 (sx, sy),
             );
+            if lines.is_empty() {
+                continue;
+            }
+            if !clipped {
+                let _ = writeln!(out, r#"<clipPath id="c{i}"><path d="{d}"/></clipPath>"#);
+                clipped = true;
+            }
+            let _ = writeln!(
+                out,
+                r#"<path clip-path="url(#c{i})" fill="none" stroke="{}" stroke-width="{}" d="{lines}"/>"#,
+                hex(ink),
+                num(width as f32)
+            );
         }
-        if lines.is_empty() {
-            continue;
-        }
-        let _ = writeln!(
-            out,
-            r#"<clipPath id="c{i}"><path d="{d}"/></clipPath><path clip-path="url(#c{i})" fill="none" stroke="{}" stroke-width="{}" d="{lines}"/>"#,
-            hex(ink),
-            num(width as f32)
-        );
     }
     if p.border_width > 0.0 {
         let lead = linear_of(p.ink.leading());

@@ -18,7 +18,8 @@
 //! 5. [`population`] control at each repair but in the last (settling) iterations: insert into
 //!    poorly filled triangles (splitting them), delete overcrowded samples (filling their
 //!    holes, `removal.rs`); while settling, the force scale eases off so the packing comes to
-//!    rest;
+//!    rest. A lattice seed, which starts near its end, runs a shorter course with more
+//!    frequent control ([`SamplerParams::schedule`]);
 //! 6. stop when the largest step is a tiny fraction of the local size, or after the maximum
 //!    number of iterations.
 //!
@@ -52,7 +53,7 @@ pub mod seeding;
 pub use delaunay::AnisotropicDelaunay;
 pub use edges::Edges;
 pub use force::force_spline;
-pub use params::{validate_metric, SamplerParams, Seeding, DEFAULT_MAX_SAMPLES};
+pub use params::{validate_metric, SamplerParams, Schedule, Seeding, DEFAULT_MAX_SAMPLES};
 pub use population::fill_rate;
 pub use quality::Quality;
 pub use seeding::DartParams;
@@ -225,7 +226,8 @@ pub fn sample_observed(
     stats.seeding_time = start.elapsed();
     observer.end(Stage::Seeding, stats.seeding_time, None);
     let relaxation_start = Instant::now();
-    observer.begin(Stage::Relaxation, Some(params.iterations as u64));
+    let schedule = params.schedule(seeding);
+    observer.begin(Stage::Relaxation, Some(schedule.iterations as u64));
 
     let nfixed = fixed.len();
     let mut all = fixed;
@@ -243,9 +245,14 @@ pub fn sample_observed(
 
     // How far some particle has moved since the last repair, in its own size.
     let mut drift = 0.0;
-    for it in 0..params.iterations {
-        if it > 0 && params.repair_every > 0 && it % params.repair_every == 0 {
-            let settling = it + params.settle_iterations > params.iterations;
+    for it in 0..schedule.iterations {
+        let settling = it + schedule.settle_iterations > schedule.iterations;
+        let every = if settling {
+            schedule.repair_every
+        } else {
+            schedule.control_every
+        };
+        if it > 0 && every > 0 && it % every == 0 {
             mesh = if settling {
                 repair(mesh, &mut particles, field, &mut stats)
             } else {
@@ -270,8 +277,8 @@ pub fn sample_observed(
         // Over the settling iterations the force scale falls linearly to `settle_force`
         // of its value: the high-frequency ringing of compressed pairs dies out and the
         // packing comes to rest.
-        let settle = params.settle_iterations.max(1) as f64;
-        let into = ((it + params.settle_iterations) as f64 - params.iterations as f64) / settle;
+        let settle = schedule.settle_iterations.max(1) as f64;
+        let into = ((it + schedule.settle_iterations) as f64 - schedule.iterations as f64) / settle;
         let cooling = 1.0 - (1.0 - params.settle_force) * into.clamp(0.0, 1.0);
         let dynamics_now = Dynamics {
             scale: dynamics.scale * cooling,

@@ -254,7 +254,8 @@ impl Preset {
     }
 
     /// `look.flat_angle` (hatchings' lines and brush strokes where the field has no
-    /// direction; degrees), or `default`.
+    /// direction; degrees), or `default`. (The engraving's, the fabric's and the LIC's have a
+    /// value always.)
     fn flat_angle(&self, default: Option<f32>) -> Result<Option<f32>> {
         match self.file.look.flat_angle {
             Some(a) => Ok(Some(ranged("look.flat_angle", Some(a), a, ANGLE)?)),
@@ -429,6 +430,7 @@ impl Preset {
         p.cross_weight = ranged("look.cross_weight", l.cross_weight, p.cross_weight, UNIT)?;
         p.thickness = ranged("look.thickness", l.thickness, p.thickness, (0.01, 2.0))?;
         p.contrast = ranged("look.contrast", l.contrast, p.contrast, UNIT)?;
+        p.flat_angle = ranged("look.flat_angle", l.flat_angle, p.flat_angle, ANGLE)?;
         Ok(())
     }
 }

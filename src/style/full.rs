@@ -121,6 +121,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.cross_weight = Some(p.cross_weight);
             look.thickness = Some(p.thickness);
             look.contrast = Some(p.contrast);
+            look.flat_angle = Some(p.flat_angle);
         }
     }
     Ok(PresetFile {
