@@ -5,8 +5,13 @@
 //! - an edge between top-level modules that goes against the layer order `ARCHITECTURE.md`
 //!   draws (its fenced block headed `layers`, lowest first; a module may use only modules on
 //!   lower lines), or a top-level module that the block does not place;
-//! - an import cycle between the files of one module (`render/look.rs` → `render/mosaic.rs` →
-//!   `render/look.rs`, say), found by a depth-first search over the file graph.
+//! - an import cycle between the files of one module (`render/looks/mod.rs` →
+//!   `render/looks/mosaic/mod.rs` → `render/looks/mod.rs`, say), found by a depth-first search
+//!   over the file graph;
+//! - inside `render`, an edge between its parts that goes against the order of the block
+//!   headed `render-layers` (cells below looks, say), or from one look's folder into another's
+//!   (looks never import each other: only `looks/mod.rs`, which picks one, names them all);
+//! - a folder of `render` with more than 15 source files side by side (group them by concept).
 //!
 //! A module's own `#[cfg(test)] mod tests` is left out: tests may reach anywhere below.
 
@@ -215,16 +220,17 @@ fn graph() -> BTreeMap<ModPath, BTreeSet<ModPath>> {
     graph
 }
 
-/// The layers `ARCHITECTURE.md` draws, lowest first: each line of its ```layers block names
-/// the top-level modules of one layer.
-fn documented_layers() -> Vec<Vec<String>> {
+/// The layers `ARCHITECTURE.md` draws in its fenced block headed `name`, lowest first: each
+/// line names the modules of one layer.
+fn documented_layers(name: &str) -> Vec<Vec<String>> {
     let text =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
             .unwrap();
+    let fence = format!("```{name}\n");
     let start = text
-        .find("```layers\n")
-        .expect("ARCHITECTURE.md has a ```layers block")
-        + "```layers\n".len();
+        .find(&fence)
+        .unwrap_or_else(|| panic!("ARCHITECTURE.md has a {fence} block"))
+        + fence.len();
     let end = start + text[start..].find("```").unwrap();
     text[start..end]
         .lines()
@@ -239,24 +245,32 @@ fn documented_layers() -> Vec<Vec<String>> {
         .collect()
 }
 
-#[test]
-fn top_level_modules_import_only_lower_layers() {
-    let layers = documented_layers();
+/// The edges of `graph` below the module `parent` (empty: the crate) that go against the
+/// layers of `block`: between two children of `parent`, from one on a line to one on the
+/// same or a higher line. The parent's own file (its `mod.rs`) may use every child.
+fn edges_against_layers(
+    graph: &BTreeMap<ModPath, BTreeSet<ModPath>>,
+    parent: &[&str],
+    block: &str,
+) -> Vec<String> {
+    let layers = documented_layers(block);
     let layer_of: BTreeMap<&str, usize> = layers
         .iter()
         .enumerate()
         .flat_map(|(k, l)| l.iter().map(move |m| (m.as_str(), k)))
         .collect();
+    let depth = parent.len();
+    let inside = |m: &ModPath| m.len() > depth && m[..depth].iter().eq(parent.iter());
     let mut wrong = Vec::new();
-    for (from, targets) in graph() {
-        let Some(top) = from.first() else { continue }; // lib.rs
-        let Some(&lf) = layer_of.get(top.as_str()) else {
-            wrong.push(format!("{top} is not placed in ARCHITECTURE.md's layers"));
+    for (from, targets) in graph.iter().filter(|(m, _)| inside(m)) {
+        let part = &from[depth];
+        let Some(&lf) = layer_of.get(part.as_str()) else {
+            wrong.push(format!("{part} is not placed in ARCHITECTURE.md's {block}"));
             continue;
         };
-        for to in targets {
-            let t = &to[0];
-            if t == top {
+        for to in targets.iter().filter(|m| inside(m)) {
+            let t = &to[depth];
+            if t == part {
                 continue;
             }
             match layer_of.get(t.as_str()) {
@@ -266,17 +280,80 @@ fn top_level_modules_import_only_lower_layers() {
                     from.join("::"),
                     to.join("::")
                 )),
-                None => wrong.push(format!("{t} is not placed in ARCHITECTURE.md's layers")),
+                None => wrong.push(format!("{t} is not placed in ARCHITECTURE.md's {block}")),
             }
         }
     }
     wrong.sort();
     wrong.dedup();
+    wrong
+}
+
+#[test]
+fn top_level_modules_import_only_lower_layers() {
+    let wrong = edges_against_layers(&graph(), &[], "layers");
     assert!(
         wrong.is_empty(),
         "imports against the layers:\n{}",
         wrong.join("\n")
     );
+}
+
+#[test]
+fn render_parts_import_only_lower_layers() {
+    let wrong = edges_against_layers(&graph(), &["render"], "render-layers");
+    assert!(
+        wrong.is_empty(),
+        "imports inside render against its layers:\n{}",
+        wrong.join("\n")
+    );
+}
+
+#[test]
+fn looks_never_import_each_other() {
+    let mut wrong = Vec::new();
+    for (from, targets) in graph() {
+        // A file inside one look's folder: render::looks::<look>[::…].
+        let [r, l, look, ..] = from.as_slice() else {
+            continue;
+        };
+        if r != "render" || l != "looks" {
+            continue;
+        }
+        for to in &targets {
+            if let [r, l, other, ..] = to.as_slice() {
+                if r == "render" && l == "looks" && other != look {
+                    wrong.push(format!("{} uses {}", from.join("::"), to.join("::")));
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "a look imports another:\n{}",
+        wrong.join("\n")
+    );
+}
+
+#[test]
+fn no_render_folder_is_a_heap() {
+    let mut files = Vec::new();
+    rust_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src/render"),
+        &mut files,
+    );
+    let mut per_folder: BTreeMap<PathBuf, usize> = BTreeMap::new();
+    for f in files {
+        *per_folder
+            .entry(f.parent().unwrap().to_path_buf())
+            .or_default() += 1;
+    }
+    let heaps: Vec<String> = per_folder
+        .iter()
+        .filter(|(_, &n)| n > 15)
+        .map(|(d, n)| format!("{} ({n} files)", d.display()))
+        .collect();
+    assert!(heaps.is_empty(), "folders to group by concept: {heaps:?}");
 }
 
 #[test]
@@ -334,7 +411,7 @@ fn the_checker_sees_imports() {
         edges(from).contains(&to.iter().map(|s| s.to_string()).collect::<Vec<_>>())
     };
     assert!(
-        has(&["render", "mosaic"], &["render", "scene"]),
+        has(&["render", "looks", "mosaic"], &["render", "scene"]),
         "super:: path"
     );
     assert!(
@@ -342,6 +419,13 @@ fn the_checker_sees_imports() {
         "crate:: path through a re-export"
     );
     assert!(has(&["input"], &["io"]), "crate:: path");
+    assert!(
+        has(
+            &["render", "looks", "engraving"],
+            &["render", "lines", "streamlines"]
+        ),
+        "crate:: path from a look's folder"
+    );
     // A cycle in a made-up graph is found.
     let a = code_of("use crate::x::y; // crate::z\nlet s = \"crate::w\";\n");
     assert!(a.contains("crate::x::y") && !a.contains("crate::z") && !a.contains("crate::w"));

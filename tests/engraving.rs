@@ -10,8 +10,8 @@
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
 use anisopaint::progress::Silent;
-use anisopaint::render::line_field::Directions;
-use anisopaint::render::streamlines::{streamlines, LineLayout, Streamline};
+use anisopaint::render::lines::line_field::Directions;
+use anisopaint::render::lines::streamlines::{streamlines, LineLayout, Streamline};
 use glam::DVec2;
 use image::{DynamicImage, RgbImage};
 

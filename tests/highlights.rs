@@ -3,8 +3,8 @@
 //! light side of a step edge and a flat picture get none, and the ground keeps its tone.
 
 use anisopaint::input::photo_field;
-use anisopaint::render::highlights::highlight_map;
-use anisopaint::render::outline::OutlineParams;
+use anisopaint::render::lines::highlights::highlight_map;
+use anisopaint::render::lines::outline::OutlineParams;
 use image::{DynamicImage, RgbImage};
 
 mod common;

@@ -5,8 +5,8 @@
 //! for, or in the photo's red.
 
 use anisopaint::input::photo_field;
-use anisopaint::render::outline::{draw_outlines, line_map, OutlineParams};
-use anisopaint::render::outline_ink::OutlineInk;
+use anisopaint::render::lines::outline::{draw_outlines, line_map, OutlineParams};
+use anisopaint::render::lines::outline_ink::OutlineInk;
 use image::{DynamicImage, RgbImage};
 
 mod common;

@@ -349,7 +349,7 @@ fn same_seed_same_picture_at_any_thread_count() {
 
 #[test]
 fn pixel_ink_follows_the_photo_within_cells() {
-    use anisopaint::render::texture::{Ink, TextureKind, TextureParams};
+    use anisopaint::render::looks::texture::{Ink, TextureKind, TextureParams};
     // Left half red, right half blue, with a vertical stripe texture so the metric has a
     // direction: hatch ink should be red on the left and blue on the right.
     let photo = DynamicImage::ImageRgb8(RgbImage::from_fn(160, 100, |x, _| {
@@ -382,7 +382,7 @@ fn pixel_ink_follows_the_photo_within_cells() {
 
 #[test]
 fn brush_strokes_over_an_underpainting_leave_no_paper() {
-    use anisopaint::render::glyphs::{GlyphParams, Shape};
+    use anisopaint::render::looks::glyphs::{GlyphParams, Shape};
     let photo = image::open("samples/chelsea.png").unwrap();
     let input = Input::Photo("samples/chelsea.png".into());
     let field = input::load_field(&input, &FieldOptions::default())

@@ -7,7 +7,7 @@
 mod common;
 
 use anisopaint::input::{self, FieldOptions, Input};
-use anisopaint::render::trace::{rings, simplify, Borders};
+use anisopaint::render::vector::trace::{rings, simplify, Borders};
 use anisopaint::render::{label_map, Raster, VoronoiCells};
 use anisopaint::sampling::{self, SamplerParams};
 use assert_cmd::Command;

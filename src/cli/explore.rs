@@ -369,7 +369,7 @@ fn apply_render_flags(args: &RenderArgs, look: &mut crate::render::Look) -> Resu
     match (&mut *look, &args.texture) {
         (Look::Texture(params), Some(path)) => {
             let tile = crate::io::read_photo(path)?.to_luma8();
-            params.kind = crate::render::texture::TextureKind::Image(tile);
+            params.kind = crate::render::looks::texture::TextureKind::Image(tile);
         }
         (_, Some(_)) => {
             return Err(Error::param(
@@ -380,7 +380,7 @@ fn apply_render_flags(args: &RenderArgs, look: &mut crate::render::Look) -> Resu
         _ => {}
     }
     if let (Look::Glyphs(params), Some(placement)) = (look, args.placement) {
-        use crate::render::glyphs::Placement;
+        use crate::render::looks::glyphs::Placement;
         params.placement = match placement {
             PlacementArg::Relaxed => Placement::Relaxed,
             PlacementArg::Grid => Placement::Grid,

@@ -19,14 +19,15 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
-use crate::render::highlights::highlights_of;
-use crate::render::outline::{
+use crate::render::lines::highlights::highlights_of;
+use crate::render::lines::outline::{
     draw_highlights, draw_outlines, lines_of, outline_mask, picture_values, EdgeResponses,
     OutlineParams,
 };
-use crate::render::outline_ink::{self, OutlineInk, PhotoInk};
-use crate::render::outline_share::OutlineShare;
-use crate::render::{label_map, svg_outlines, Look, Raster, RenderSize};
+use crate::render::lines::outline_ink::{self, OutlineInk, PhotoInk};
+use crate::render::lines::outline_share::OutlineShare;
+use crate::render::vector::outlines as svg_outlines;
+use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
 use glam::DVec2;

@@ -4,7 +4,7 @@
 //! θ + 180° agree) and its anisotropy `1 − b/a` (saturation), over the photo's luminance.
 //! Of a sampling: [`ellipses_preview`] draws each sample's ellipse over the faded photo.
 
-use super::colour::{ramp, to_srgb};
+use super::support::colour::{ramp, to_srgb};
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;
 use image::{DynamicImage, RgbaImage};

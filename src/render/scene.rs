@@ -5,12 +5,13 @@
 //! [`Scene::shade_settled`], which shades the pixels the cell map settles inside their cells
 //! without the owner search. The looks import this file; it imports none of them.
 
-use super::border_distance::BorderDistances;
-use super::cellmap::CellMap;
-use super::colour::{anisotropy_colours, cell_means, cell_means_and_widths, to_srgb, Linear};
-use super::outline_share::OutlineShare;
-use super::raster::Raster;
-use super::voronoi::{Owner, VoronoiCells, BORDER_EXACT_PX, NONE};
+use super::cells::border_distance::BorderDistances;
+use super::cells::cellmap::CellMap;
+use super::cells::means::{cell_means, cell_means_and_widths};
+use super::cells::raster::Raster;
+use super::cells::voronoi::{Owner, VoronoiCells, BORDER_EXACT_PX, NONE};
+use super::lines::outline_share::OutlineShare;
+use super::support::colour::{anisotropy_colours, to_srgb, Linear};
 use crate::field::TensorField;
 use glam::DVec2;
 use image::{DynamicImage, RgbImage};
@@ -130,7 +131,7 @@ impl<'a> Scene<'a> {
     }
 
     /// A border width given in pixels of a picture of
-    /// [`REFERENCE_DIAGONAL`](super::raster::REFERENCE_DIAGONAL), in this picture's pixels
+    /// [`REFERENCE_DIAGONAL`](super::cells::raster::REFERENCE_DIAGONAL), in this picture's pixels
     /// ([`Raster::length_scale`]): the mosaic's leading keeps its share of the cells at any
     /// size.
     #[must_use]

@@ -6,9 +6,10 @@
 
 use super::preset::{LookSection, MetricSection, Preset, PresetFile, SamplerSection};
 use crate::error::{Error, Result};
-use crate::render::glyphs::{Placement, Shape};
-use crate::render::outline_ink::OutlineInk;
-use crate::render::texture::{Ink, BLACK_INK};
+use crate::render::lines::outline_ink::OutlineInk;
+use crate::render::looks::glyphs::{Placement, Shape};
+use crate::render::looks::texture::Ink;
+use crate::render::support::colour::BLACK_INK;
 use crate::render::Look;
 
 /// `preset` with every key its look uses, as TOML.

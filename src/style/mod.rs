@@ -22,7 +22,7 @@ pub use preset::{
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::texture::TextureKind;
+    use crate::render::looks::texture::TextureKind;
     use crate::render::Look;
     use std::path::Path;
 
@@ -41,7 +41,7 @@ mod tests {
         };
         assert_eq!(
             p.kind,
-            TextureKind::Image(crate::render::texture::engraving_tile(64))
+            TextureKind::Image(crate::render::looks::texture::engraving_tile(64))
         );
         // A tile beside the preset wins over the built-in one of the same name.
         let tile = image::GrayImage::from_pixel(8, 8, image::Luma([7]));
@@ -66,7 +66,7 @@ mod tests {
     fn built_in_textures_are_the_ones_the_project_makes() {
         // REGENERATE=1 rewrites the file from its generator.
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("styles/textures/engraving.png");
-        let made = crate::render::texture::engraving_tile(64);
+        let made = crate::render::looks::texture::engraving_tile(64);
         if std::env::var_os("REGENERATE").is_some() {
             made.save(&path).unwrap();
         }
