@@ -1,12 +1,16 @@
-//! Speed of the renderers (issue targets on two cores: Voronoi label map + mosaic fill of a
-//! 2048x2048 image with about 40 k cells and 2x2 supersampling ≤ 0.25 s; a 12 MP textured
-//! render ≤ 1.5 s; fabric texture 2048² ≤ 1.5 s). Sampling happens once, outside the timing.
+//! Speed of the looks as `paint` draws them (cells, look, outlines and highlights) from a
+//! sampling made once outside the timing: a mosaic of a 2048² photo with about 40 k cells,
+//! the fabric of the same, pen-hatch and cross-hatch of a 12 MP photo.
 //!
 //! Run: `cargo bench --bench render`.
 
 use anisopaint::field::{MetricParams, TensorField};
-use anisopaint::render::{render, Look, RenderSize};
+use anisopaint::input::{photo_field, FieldOptions};
+use anisopaint::paint::{self, Extras, Recipe, Samples};
+use anisopaint::progress::Silent;
+use anisopaint::render::RenderSize;
 use anisopaint::sampling::{self, SamplerParams, Sampling};
+use anisopaint::style;
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion};
 use image::DynamicImage;
@@ -21,10 +25,12 @@ fn scene(w: u32, h: u32, n: f64) -> (DynamicImage, TensorField, Sampling) {
     (photo, field, s)
 }
 
+/// `style`'s look drawn through the paint pipeline (its cells, outlines and highlights), from
+/// the sampling of `setup`.
 fn bench_look(
     g: &mut BenchmarkGroup<WallTime>,
     name: &str,
-    look: &str,
+    style: &str,
     setup: &(DynamicImage, TensorField, Sampling),
 ) {
     let (photo, field, s) = setup;
@@ -33,18 +39,18 @@ fn bench_look(
         height: photo.height() as usize,
         supersample: 2,
     };
-    let look = Look::named(look).unwrap();
+    let preset = style::load(style).unwrap();
+    let recipe = Recipe::from_preset(&preset, FieldOptions::default(), None).unwrap();
+    let mut loaded = photo_field(photo.clone(), &recipe.field.metric);
+    loaded.metric = std::sync::Arc::new(field.clone());
+    let samples = Samples {
+        positions: s.positions.clone(),
+        metrics: s.metrics.clone(),
+        mesh: s.mesh.clone(),
+    };
     g.bench_function(name, |b| {
         b.iter(|| {
-            render(
-                &look,
-                &s.positions,
-                &s.metrics,
-                &s.mesh,
-                field,
-                Some(photo),
-                size,
-            )
+            paint::draw(&loaded, &samples, &recipe, size, Extras::default(), &Silent).unwrap()
         })
     });
 }
@@ -57,10 +63,10 @@ fn renderers(c: &mut Criterion) {
     let mut g = c.benchmark_group("render");
     g.sample_size(10);
     g.measurement_time(Duration::from_secs(15));
-    bench_look(&mut g, "mosaic_2048_40k_cells_2x2", "mosaic", &square);
+    bench_look(&mut g, "mosaic_2048_40k_cells", "mosaic", &square);
     bench_look(&mut g, "fabric_2048", "fabric", &square);
-    bench_look(&mut g, "hatch_12mp_2x2", "hatch", &large);
-    bench_look(&mut g, "crosshatch_12mp_2x2", "crosshatch", &large);
+    bench_look(&mut g, "pen-hatch_12mp", "pen-hatch", &large);
+    bench_look(&mut g, "crosshatch_12mp", "crosshatch", &large);
     g.finish();
 }
 

@@ -5,8 +5,12 @@
 //! a mismatch a diff picture is written next to the reference).
 
 use anisopaint::field::{self, TensorField};
+use anisopaint::input::LoadedField;
 use anisopaint::input::{self, FieldOptions, Input};
-use anisopaint::render::{self, label_map, Look, Raster, RenderSize, VoronoiCells};
+use anisopaint::paint::{self, Extras, Recipe, Samples};
+use anisopaint::progress::Silent;
+use anisopaint::render::cells::{CellKind, CellParams};
+use anisopaint::render::{label_map, Look, Raster, RenderSize, VoronoiCells};
 use anisopaint::sampling::{self, SamplerParams, Sampling};
 use image::{DynamicImage, RgbImage};
 use std::path::{Path, PathBuf};
@@ -41,7 +45,40 @@ fn draw(
         height,
         supersample: 2,
     };
-    render::render(look, &s.positions, &s.metrics, &s.mesh, field, photo, size)
+    draw_at(look, s, field, photo, size)
+}
+
+/// `look` drawn through the paint pipeline over the paper's cells of the sampling `s` of
+/// `field` (the metric, and the tensor the outlines would read: none are laid) at `size`.
+fn draw_at(
+    look: &Look,
+    s: &Sampling,
+    field: &TensorField,
+    photo: Option<&DynamicImage>,
+    size: RenderSize,
+) -> RgbImage {
+    let field = std::sync::Arc::new(field.clone());
+    let loaded = LoadedField {
+        metric: field.clone(),
+        raw: field,
+        photo: photo.cloned(),
+    };
+    let samples = Samples {
+        positions: s.positions.clone(),
+        metrics: s.metrics.clone(),
+        mesh: s.mesh.clone(),
+    };
+    let recipe = Recipe {
+        cells: CellParams {
+            kind: CellKind::Voronoi,
+            ..CellParams::default()
+        },
+        supersample: size.supersample,
+        ..Recipe::new(look.clone())
+    };
+    paint::draw(&loaded, &samples, &recipe, size, Extras::default(), &Silent)
+        .unwrap()
+        .image
 }
 
 /// Fraction of pixel centres (every `stride`-th in each direction) whose label is the
@@ -259,11 +296,9 @@ fn odd_sizes_render() {
         let s = sampled(&field);
         for look in Look::NAMES {
             for (ow, oh) in [(w, h), (w * 3, h * 3)] {
-                let img = render::render(
+                let img = draw_at(
                     &Look::named(look).unwrap(),
-                    &s.positions,
-                    &s.metrics,
-                    &s.mesh,
+                    &s,
                     &field,
                     None,
                     RenderSize {

@@ -19,14 +19,7 @@ use crate::field::{Tensor, TensorField};
 use crate::input::{FieldOptions, Input, LoadedField};
 use crate::progress::{timed, Observer, Silent, Stage};
 use crate::render::cells::{CellKind, CellParams, CellSites};
-use crate::render::lines::highlights::highlights_of;
-use crate::render::lines::outline::{
-    draw_highlights, draw_outlines, lines_of, outline_mask, picture_values, EdgeResponses,
-    OutlineParams,
-};
-use crate::render::lines::outline_ink::{self, OutlineInk, PhotoInk};
-use crate::render::lines::outline_share::OutlineShare;
-use crate::render::vector::outlines as svg_outlines;
+use crate::render::lines::outline::OutlineParams;
 use crate::render::{label_map, Look, Raster, RenderSize};
 use crate::sampling::{AnisotropicDelaunay, SamplerParams};
 use crate::style::Preset;
@@ -52,6 +45,20 @@ pub struct Recipe {
 }
 
 impl Recipe {
+    /// A recipe of defaults that draws `look`: the default metric and sampler, 2×2
+    /// supersampling where borders cross a pixel, edge-following cells and no outlines.
+    #[must_use]
+    pub fn new(look: Look) -> Recipe {
+        Recipe {
+            field: FieldOptions::default(),
+            sampler: SamplerParams::default(),
+            look,
+            supersample: 2,
+            cells: CellParams::default(),
+            outline: OutlineParams::default(),
+        }
+    }
+
     /// The recipe of `preset`: its metric, sampler and look over `field`'s other options
     /// (how `.npy` files are read, the analytic domain), with `seed` over the preset's.
     pub fn from_preset(preset: &Preset, field: FieldOptions, seed: Option<u64>) -> Result<Recipe> {
@@ -210,176 +217,17 @@ fn draw_reading(
             };
             label_map(&sites.cells(), &raster)
         });
-        // The outlines' line map and the highlights' map, found once from the same responses:
-        // the ink looks leave the share the outlines will ink (and the highlights leave bare)
-        // out of their own tone, then both are laid over the look.
-        let paper = highlight_params(recipe);
-        let responses = match &loaded.photo {
-            Some(photo) if recipe.outline.strength > 0.0 || paper.is_some() => {
-                Some(EdgeResponses::new(photo, &loaded.raw, &recipe.outline))
-            }
-            _ => None,
-        };
-        let lines = match &responses {
-            Some(r) if recipe.outline.strength > 0.0 => lines_of(r, recipe.outline.ink),
-            _ => Vec::new(),
-        };
-        let highlights = paper.zip(responses.as_ref().map(highlights_of));
-        // (Outlines in the photo's own colour darken little: the look keeps its tone.)
-        let dark = !lines.is_empty()
-            && recipe.look.inks_its_tone()
-            && recipe.outline.ink != OutlineInk::Pixel;
-        // The highlights' paper too, with or without outlines.
-        let share = (dark || highlights.is_some()).then(|| {
-            let ink = if dark { lines.as_slice() } else { &[] };
-            let share = OutlineShare::new(ink, &loaded.raw, recipe.outline.strength);
-            match &highlights {
-                Some((paper, map)) => share.with_highlights(map, paper.strength),
-                None => share,
-            }
-        });
-        let (mut image, mut svg) = crate::render::draw(
+        let (image, svg) = crate::render::draw(
             &recipe.look,
             sites.cells(),
             &loaded.metric,
-            (loaded.photo.as_ref(), share.as_ref()),
+            loaded.photo.as_ref().map(|p| (p, loaded.raw.as_ref())),
+            &recipe.outline,
             size,
             extras.svg,
         )?;
-        if let Some(photo) = &loaded.photo {
-            draw_outlines(
-                &mut image,
-                photo,
-                (&loaded.raw, &lines),
-                loaded.metric.domain(),
-                &recipe.outline,
-            );
-            if let Some(svg) = &mut svg {
-                add_svg_outlines(svg, (loaded, &lines), photo, size, &recipe.outline);
-            }
-            if let Some((paper, map)) = &highlights {
-                draw_highlights(
-                    &mut image,
-                    photo,
-                    (&loaded.raw, map),
-                    loaded.metric.domain(),
-                    paper,
-                );
-                if let Some(svg) = &mut svg {
-                    add_svg_highlights(svg, (loaded, map), size, paper);
-                }
-            }
-        }
         Ok(Painting { image, svg, labels })
     })
-}
-
-/// How `recipe` lays highlights: the outline parameters that draw them (the look's paper as
-/// ink, at the highlights' strength); `None` for a look without one paper, or none asked for.
-fn highlight_params(recipe: &Recipe) -> Option<OutlineParams> {
-    let paper = recipe.look.paper()?;
-    (recipe.outline.highlights > 0.0).then_some(OutlineParams {
-        strength: recipe.outline.highlights,
-        ink: OutlineInk::Colour(paper),
-        ..recipe.outline
-    })
-}
-
-/// Adds the outlines' vector form over the look in `svg` (before its closing tag): `lines`,
-/// their line map on `loaded`'s tensor grid.
-fn add_svg_outlines(
-    svg: &mut String,
-    (loaded, lines): (&LoadedField, &[f32]),
-    photo: &image::DynamicImage,
-    size: RenderSize,
-    params: &OutlineParams,
-) {
-    if params.strength <= 0.0 {
-        return;
-    }
-    let (w, h) = (size.width, size.height);
-    let mask = outline_mask((&loaded.raw, lines), loaded.metric.domain(), (w, h), params);
-    let photo_ink = PhotoInk::new(photo, (w, h));
-    let ink = match params.ink {
-        OutlineInk::Colour(ink) => ink,
-        OutlineInk::Pixel => {
-            // The photo itself inside the lines' shapes, as the raster lays it pixel by pixel.
-            let inked: Vec<i32> = mask.iter().map(|&m| if m != 0 { 0 } else { -1 }).collect();
-            let d = svg_outlines::label_paths(&inked, w, h, 1);
-            let picture = RgbImage::from_fn(w as u32, h as u32, |x, y| {
-                let c = photo_ink.at(x as usize, y as usize);
-                image::Rgb(c.map(|v| v.round().clamp(0.0, 255.0) as u8))
-            });
-            let shapes = svg_outlines::photo_in_shapes(&d[0], &picture, params.strength, "rigger");
-            insert_before_end(svg, &shapes);
-            return;
-        }
-    };
-    // Every piece of the lines in the ink, darkened where the photo's mean colour under it is
-    // darker than the ink (as the raster darkens it per pixel).
-    let (labels, count) = outline_ink::pieces(&mask, w, h);
-    let means = outline_ink::piece_colours(&labels, count, &photo_ink, w);
-    let darker = outline_ink::DarkerInk::new(ink);
-    let inks: Vec<([u8; 3], f32)> = means
-        .iter()
-        .map(|m| {
-            let c = darker
-                .under(m.map(f32::from))
-                .map_or(ink, |c| c.map(|v| v.round().clamp(0.0, 255.0) as u8));
-            (c, params.strength)
-        })
-        .collect();
-    insert_before_end(svg, &svg_outlines::outlines(&labels, w, h, &inks));
-}
-
-/// Adds the highlights' vector form over the look in `svg`: `map`, the highlights' map on
-/// `loaded`'s tensor grid, laid in `params`' ink (the look's paper). The paper the raster lays
-/// is `strength × map` at each pixel, and the map of a dim highlight stays under half (it is
-/// no lighter than the photo there): every piece where it reaches [`HIGHLIGHT_TRACE`] is traced
-/// and filled at its mean, so the SVG lays about the paper the raster does. (Traced where it
-/// is at least half at full strength, as the outlines are, the rocket's grey masts and the
-/// dim galaxies of a deep field were missing from the SVG.)
-fn add_svg_highlights(
-    svg: &mut String,
-    (loaded, map): (&LoadedField, &[f32]),
-    size: RenderSize,
-    params: &OutlineParams,
-) {
-    let OutlineInk::Colour(paper) = params.ink else {
-        return;
-    };
-    if params.strength <= 0.0 {
-        return;
-    }
-    let (w, h) = (size.width, size.height);
-    let values = picture_values((&loaded.raw, map), loaded.metric.domain(), (w, h));
-    let mask: Vec<i32> = values
-        .iter()
-        .map(|&v| i32::from(v >= HIGHLIGHT_TRACE))
-        .collect();
-    let (labels, count) = outline_ink::pieces(&mask, w, h);
-    let mut sums = vec![(0.0f64, 0u32); count];
-    for (&l, &v) in labels.iter().zip(&values) {
-        if let Ok(l) = usize::try_from(l) {
-            sums[l].0 += f64::from(v);
-            sums[l].1 += 1;
-        }
-    }
-    let inks: Vec<([u8; 3], f32)> = sums
-        .iter()
-        .map(|&(sum, n)| (paper, params.strength * (sum / f64::from(n.max(1))) as f32))
-        .collect();
-    insert_before_end(svg, &svg_outlines::outlines(&labels, w, h, &inks));
-}
-
-/// Where the highlights' map is traced for the SVG ([`add_svg_highlights`]).
-const HIGHLIGHT_TRACE: f32 = 0.25;
-
-/// Inserts `shapes` before `svg`'s closing tag.
-fn insert_before_end(svg: &mut String, shapes: &str) {
-    if let Some(end) = svg.rfind("</svg>") {
-        svg.insert_str(end, shapes);
-    }
 }
 
 /// The cells `recipe` asks for. Fabric and LIC lay their threads from the samples as the

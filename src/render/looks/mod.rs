@@ -120,34 +120,26 @@ impl Look {
         }
     }
 
-    /// The SVG document of this look over `scene`, or an error for a look without a vector
-    /// form.
-    pub fn svg(&self, scene: &Scene) -> crate::Result<String> {
-        self.svg_of_laid(scene, None)
-    }
-
-    /// [`Self::svg`], with the glyphs the raster picture laid when it was painted already
-    /// ([`glyphs::painted`]), so they are not found twice.
-    pub(crate) fn svg_of_laid(
+    /// Writes the body of this look's SVG over `scene` (a look without a vector form writes
+    /// nothing: [`Self::check_vector_form`] refuses it first), `laid` the glyphs the raster
+    /// picture laid when it was painted already ([`glyphs::painted`]), so they are not found
+    /// twice.
+    pub(crate) fn write_svg(
         &self,
+        out: &mut String,
         scene: &Scene,
         laid: Option<Vec<(DVec2, Tensor, Linear)>>,
-    ) -> crate::Result<String> {
-        self.check_vector_form()?;
-        Ok(crate::render::vector::document(
-            &scene.raster,
-            |out| match self {
-                Look::Mosaic(p) => mosaic::svg::write(out, scene, p),
-                Look::Texture(p) => texture::svg::write(out, scene, p),
-                Look::Glyphs(p) => {
-                    let laid = laid.unwrap_or_else(|| glyphs::laid(scene, p));
-                    glyphs::svg::write(out, scene, p, &laid);
-                }
-                Look::Engraving(p) => engraving::svg::engraved(out, scene, p),
-                // Refused above.
-                Look::Fabric(_) => {}
-            },
-        ))
+    ) {
+        match self {
+            Look::Mosaic(p) => mosaic::svg::write(out, scene, p),
+            Look::Texture(p) => texture::svg::write(out, scene, p),
+            Look::Glyphs(p) => {
+                let laid = laid.unwrap_or_else(|| glyphs::laid(scene, p));
+                glyphs::svg::write(out, scene, p, &laid);
+            }
+            Look::Engraving(p) => engraving::svg::engraved(out, scene, p),
+            Look::Fabric(_) => {}
+        }
     }
 
     /// Renders `scene`.
