@@ -4,6 +4,8 @@
 //! reference pictures compared with a per-channel tolerance (`REGENERATE=1` rewrites them; on
 //! a mismatch a diff picture is written next to the reference).
 
+mod common;
+
 use anisopaint::field::{self, TensorField};
 use anisopaint::input::LoadedField;
 use anisopaint::input::{self, FieldOptions, Input};
@@ -13,7 +15,7 @@ use anisopaint::render::cells::{CellKind, CellParams};
 use anisopaint::render::{label_map, Look, Raster, RenderSize, VoronoiCells};
 use anisopaint::sampling::{self, SamplerParams, Sampling};
 use image::{DynamicImage, RgbImage};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn analytic(spec: &str, w: usize, h: usize) -> TensorField {
     let input = Input::parse(&format!("analytic:{spec}")).unwrap();
@@ -317,52 +319,17 @@ fn odd_sizes_render() {
     }
 }
 
-/// Compares `img` with the committed reference `name`: every channel within `tolerance`
-/// levels for at least 99 % of pixels, none off by more than 64. Writes `name.diff.png` on a
-/// mismatch; `REGENERATE=1` rewrites the reference instead.
-fn check_reference(img: &RgbImage, name: &str, tolerance: u8) {
-    let path = PathBuf::from("tests/references").join(format!("{name}.png"));
-    if std::env::var_os("REGENERATE").is_some() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        img.save(&path).unwrap();
-        return;
-    }
-    let reference = image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (REGENERATE=1 writes it)", path.display()))
-        .to_rgb8();
-    assert_eq!(reference.dimensions(), img.dimensions(), "{name}: size");
-    let mut diff = RgbImage::new(img.width(), img.height());
-    let (mut off, mut worst) = (0usize, 0u8);
-    for ((a, b), d) in img.pixels().zip(reference.pixels()).zip(diff.pixels_mut()) {
-        let delta = [0, 1, 2].map(|k| a.0[k].abs_diff(b.0[k]));
-        let m = *delta.iter().max().unwrap();
-        worst = worst.max(m);
-        off += usize::from(m > tolerance);
-        d.0 = delta.map(|v| v.saturating_mul(4));
-    }
-    let share = off as f64 / f64::from(img.width() * img.height());
-    if share > 0.01 || worst > 64 {
-        let out = diff_path(&path);
-        diff.save(&out).unwrap();
-        panic!(
-            "{name}: {:.2} % of pixels off by more than {tolerance}, worst {worst}; diff in {}",
-            100.0 * share,
-            out.display()
-        );
-    }
-}
-
-fn diff_path(path: &Path) -> PathBuf {
-    path.with_extension("diff.png")
-}
-
 #[test]
 fn looks_match_their_reference_pictures() {
     let field = analytic("two-point-load", 120, 80);
     let s = sampled(&field);
     for look in Look::NAMES {
         let img = draw(&Look::named(look).unwrap(), &s, &field, None, (150, 100));
-        check_reference(&img, look, 6);
+        common::check_reference(
+            &img,
+            &Path::new("tests/references").join(format!("{look}.png")),
+            6,
+        );
     }
 }
 

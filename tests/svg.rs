@@ -5,6 +5,7 @@
 //! before any work, nothing written.
 
 mod common;
+use common::Blend;
 
 use anisopaint::input::{self, FieldOptions, Input};
 use anisopaint::render::vector::trace::{rings, simplify, Borders};
@@ -97,70 +98,11 @@ fn traced_cells_reproduce_the_label_map() {
     }
 }
 
-/// sRGB byte → linear light.
-fn linear(v: u8) -> f64 {
-    let v = f64::from(v) / 255.0;
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 /// Rasterises an SVG file with resvg at its own size, `k × k` points per pixel averaged in
 /// linear light (resvg, like browsers, blends edges in sRGB: at k = 1 a hairline's partial
 /// pixels come out darker than its ink coverage).
 fn rasterise(svg: &Path, k: u32) -> RgbImage {
-    rasterise_blended(svg, k, Blend::Linear)
-}
-
-/// How `k × k` points, or the pixels of a block, are averaged: in linear light (what the
-/// cells' supersampling does) or in the sRGB encoding (what ink coverage is mapped for).
-#[derive(Clone, Copy, PartialEq)]
-enum Blend {
-    Linear,
-    Encoded,
-}
-
-fn rasterise_blended(svg: &Path, k: u32, blend: Blend) -> RgbImage {
-    let data = std::fs::read(svg).unwrap();
-    let tree = resvg::usvg::Tree::from_data(&data, &resvg::usvg::Options::default()).unwrap();
-    let size = tree.size().to_int_size();
-    let (w, h) = (size.width(), size.height());
-    let mut pixmap = tiny_skia::Pixmap::new(w * k, h * k).unwrap();
-    pixmap.fill(tiny_skia::Color::WHITE);
-    resvg::render(
-        &tree,
-        tiny_skia::Transform::from_scale(k as f32, k as f32),
-        &mut pixmap.as_mut(),
-    );
-    let big = pixmap.data();
-    RgbImage::from_fn(w, h, |x, y| {
-        let mut sum = [0.0f64; 3];
-        for dy in 0..k {
-            for dx in 0..k {
-                let i = (((y * k + dy) * w * k + x * k + dx) * 4) as usize;
-                for c in 0..3 {
-                    sum[c] += match blend {
-                        Blend::Linear => linear(big[i + c]),
-                        Blend::Encoded => f64::from(big[i + c]) / 255.0,
-                    };
-                }
-            }
-        }
-        image::Rgb(sum.map(|v| {
-            let v = v / f64::from(k * k);
-            if blend == Blend::Encoded {
-                return (v * 255.0).round() as u8;
-            }
-            let s = if v <= 0.003_130_8 {
-                v * 12.92
-            } else {
-                1.055 * v.powf(1.0 / 2.4) - 0.055
-            };
-            (s * 255.0).round().clamp(0.0, 255.0) as u8
-        }))
-    })
+    common::rasterise_blended(svg, k, Blend::Linear)
 }
 
 /// Fraction of pixels whose channels all lie within `tolerance` levels.
@@ -193,7 +135,7 @@ fn tone_difference_blended(a: &RgbImage, b: &RgbImage, blend: Blend) -> f64 {
                         for x in bx * 8..bx * 8 + 8 {
                             let v = img.get_pixel(x, y).0[c];
                             sum += match blend {
-                                Blend::Linear => linear(v),
+                                Blend::Linear => common::linear(v),
                                 Blend::Encoded => f64::from(v) / 255.0,
                             };
                         }
@@ -342,7 +284,8 @@ fn hatch_svg_keeps_the_tones() {
         // The same ink coverage: the PNG maps tone to the share of ink in the sRGB encoding,
         // so the SVG, rasterised finely enough that edges hardly count, is averaged the same
         // way (measured: 0.022 and 0.020).
-        let svg = rasterise_blended(&dir.path().join(format!("{style}.svg")), 8, Blend::Encoded);
+        let svg =
+            common::rasterise_blended(&dir.path().join(format!("{style}.svg")), 8, Blend::Encoded);
         let tone = tone_difference_blended(&png, &svg, Blend::Encoded);
         assert!(tone < 0.025, "{style}: tone differs by {tone:.4}");
     }
@@ -365,7 +308,8 @@ fn engraving_stipple_and_outline_svgs_keep_the_tones() {
     ] {
         let (png, _, text) = paint_both(dir.path(), style, &[], 1);
         assert!(text.matches(shape).count() > 0, "{style}: no {shape}");
-        let svg = rasterise_blended(&dir.path().join(format!("{style}.svg")), 4, Blend::Encoded);
+        let svg =
+            common::rasterise_blended(&dir.path().join(format!("{style}.svg")), 4, Blend::Encoded);
         let tone = tone_difference_blended(&png, &svg, Blend::Encoded);
         eprintln!("{style}: the SVG's tone differs from the PNG's by {tone:.4}");
         assert!(tone < limit, "{style}: tone differs by {tone:.4}");
@@ -393,7 +337,7 @@ fn dim_highlights_are_in_the_svg_as_in_the_png() {
     photo.save(&path).unwrap();
     let (png, _, text) = paint_photo_both(dir.path(), &path, "pen-hatch", &[], 1);
     assert!(text.contains("fill=\"#f7f3e8\" fill-opacity=\"0."));
-    let svg = rasterise_blended(&dir.path().join("pen-hatch.svg"), 4, Blend::Encoded);
+    let svg = common::rasterise_blended(&dir.path().join("pen-hatch.svg"), 4, Blend::Encoded);
     // The mean over the pixels on the lines, away from the picture's rim.
     let band = |img: &RgbImage| {
         let (w, h) = (f64::from(w), f64::from(h));
@@ -436,7 +380,7 @@ fn assert_engraved_greys_alike(greys: [u8; 2], k: u32, tolerance: f64) {
     let path = dir.path().join("dark.png");
     photo.save(&path).unwrap();
     let (png, _, _) = paint_photo_both(dir.path(), &path, "engraving", &[], 1);
-    let svg = rasterise_blended(&dir.path().join("engraving.svg"), k, Blend::Encoded);
+    let svg = common::rasterise_blended(&dir.path().join("engraving.svg"), k, Blend::Encoded);
     for (x0, x1) in [(20.0, 100.0), (140.0, 220.0)] {
         let mean = |img: &RgbImage| {
             common::mean_where(img, 1, |x, y| x > x0 && x < x1 && y > 20.0 && y < 140.0)
@@ -465,7 +409,7 @@ fn outline_svg_is_no_lighter_than_the_black_it_lies_on() {
     let path = dir.path().join("disc.png");
     photo.save(&path).unwrap();
     let (png, _, _) = paint_photo_both(dir.path(), &path, "pen-hatch", &[], 1);
-    let svg = rasterise_blended(&dir.path().join("pen-hatch.svg"), 4, Blend::Encoded);
+    let svg = common::rasterise_blended(&dir.path().join("pen-hatch.svg"), 4, Blend::Encoded);
     let rim = |img: &RgbImage| {
         common::mean_where(img, 0, |x, y| {
             ((radius - 3.0)..(radius - 1.0)).contains(&(x - c).hypot(y - c))

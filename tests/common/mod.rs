@@ -180,3 +180,98 @@ pub fn mean_where(img: &image::RgbImage, k: usize, keep: impl Fn(f64, f64) -> bo
     }
     sum / n
 }
+
+/// Compares `img` with the committed reference picture at `path`: every channel within
+/// `tolerance` levels for at least 99 % of pixels, none off by more than 64. Writes a diff
+/// picture (four times the difference) beside the reference on a mismatch; `REGENERATE=1`
+/// rewrites the reference instead.
+pub fn check_reference(img: &image::RgbImage, path: &std::path::Path, tolerance: u8) {
+    if std::env::var_os("REGENERATE").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        img.save(path).unwrap();
+        return;
+    }
+    let name = path.display();
+    let reference = image::open(path)
+        .unwrap_or_else(|e| panic!("{name}: {e} (REGENERATE=1 writes it)"))
+        .to_rgb8();
+    assert_eq!(reference.dimensions(), img.dimensions(), "{name}: size");
+    let mut diff = image::RgbImage::new(img.width(), img.height());
+    let (mut off, mut worst) = (0usize, 0u8);
+    for ((a, b), d) in img.pixels().zip(reference.pixels()).zip(diff.pixels_mut()) {
+        let delta = [0, 1, 2].map(|k| a.0[k].abs_diff(b.0[k]));
+        let m = *delta.iter().max().unwrap();
+        worst = worst.max(m);
+        off += usize::from(m > tolerance);
+        d.0 = delta.map(|v| v.saturating_mul(4));
+    }
+    let share = off as f64 / f64::from(img.width() * img.height());
+    if share > 0.01 || worst > 64 {
+        let out = path.with_extension("diff.png");
+        diff.save(&out).unwrap();
+        panic!(
+            "{name}: {:.2} % of pixels off by more than {tolerance}, worst {worst}; diff in {}",
+            100.0 * share,
+            out.display()
+        );
+    }
+}
+
+/// sRGB byte → linear light.
+pub fn linear(v: u8) -> f64 {
+    let v = f64::from(v) / 255.0;
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// How `k × k` points, or the pixels of a block, are averaged: in linear light (what the
+/// cells' supersampling does) or in the sRGB encoding (what ink coverage is mapped for).
+#[derive(Clone, Copy, PartialEq)]
+pub enum Blend {
+    Linear,
+    Encoded,
+}
+
+pub fn rasterise_blended(svg: &std::path::Path, k: u32, blend: Blend) -> image::RgbImage {
+    let data = std::fs::read(svg).unwrap();
+    let tree = resvg::usvg::Tree::from_data(&data, &resvg::usvg::Options::default()).unwrap();
+    let size = tree.size().to_int_size();
+    let (w, h) = (size.width(), size.height());
+    let mut pixmap = tiny_skia::Pixmap::new(w * k, h * k).unwrap();
+    pixmap.fill(tiny_skia::Color::WHITE);
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::from_scale(k as f32, k as f32),
+        &mut pixmap.as_mut(),
+    );
+    let big = pixmap.data();
+    image::RgbImage::from_fn(w, h, |x, y| {
+        let mut sum = [0.0f64; 3];
+        for dy in 0..k {
+            for dx in 0..k {
+                let i = (((y * k + dy) * w * k + x * k + dx) * 4) as usize;
+                for c in 0..3 {
+                    sum[c] += match blend {
+                        Blend::Linear => linear(big[i + c]),
+                        Blend::Encoded => f64::from(big[i + c]) / 255.0,
+                    };
+                }
+            }
+        }
+        image::Rgb(sum.map(|v| {
+            let v = v / f64::from(k * k);
+            if blend == Blend::Encoded {
+                return (v * 255.0).round() as u8;
+            }
+            let s = if v <= 0.003_130_8 {
+                v * 12.92
+            } else {
+                1.055 * v.powf(1.0 / 2.4) - 0.055
+            };
+            (s * 255.0).round().clamp(0.0, 255.0) as u8
+        }))
+    })
+}
