@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fidelity of the cells at equal cell count (issue 11), measured by the independent evaluator
+# Fidelity of the cells at equal cell count, measured by the independent evaluator
 # ../shared/tools/fidelity.py: every cell replaced by its mean colour against the photo (PSNR over
 # RGB, SSIM over luma), beside an isotropic CVT and SLIC superpixels with the same count. Also
 # counts how many connected pieces the cells fall into (a partition, not a posterization).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The paper's figures from the analytic fields (issue 13, item 6): samples/figures/, shown in
+# The paper's figures from the analytic fields: samples/figures/, shown in
 # README.md. Glyphs and fabric of a stress field with a compressive and a tensile point load
 # (paper Figures 5 and 7: elongated ellipses and thin fibres near the loads, following the
 # stress trajectories), and glyphs, line texture and fabric around a degenerate point (paper

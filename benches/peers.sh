@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Whole processes side by side with the peers of issue 14, on this machine, in one run:
+# Whole processes side by side with their peers, on this machine, in one run:
 #   1. the sampler against BAMG (Debian package freefem++, `ffbamg`) on the rotating 4:1 field
 #      of about 11 000 ellipses: wall time (RUNS alternating pairs: the median of each and of
 #      the pairs' ratios), and the packing of both measured by

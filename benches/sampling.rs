@@ -1,10 +1,8 @@
-//! Speed of the sampler (issue targets on two cores: N = 10 k on a photo's metric, seeding
-//! ≤ 0.15 s and 100 iterations with triangulation updates ≤ 0.15 s; N = 100 k end to end
-//! ≤ 3 s; N = 1 M ≤ 40 s; per-iteration cost linear in N).
+//! Speed of the sampler: N = 10 k on a photo's metric (seeding, 100 iterations with
+//! triangulation updates), N = 100 k and 1 M end to end, per-iteration cost against N.
 //!
 //! `seeding` compares the lattice seed with the paper's relaxation dart throwing on the photo's
-//! metric and on the rotating 4:1 field the metric meshers are compared on (issue 14, seeding
-//! ten times faster). `end_to_end` runs the sampler on that rotating field and on one whose
+//! metric and on the rotating 4:1 field the metric meshers are compared on. `end_to_end` runs the sampler on that rotating field and on one whose
 //! orientation has singular points (ellipses along a vector field's direction).
 //!
 //! Run: `cargo bench --bench sampling`. Stage times come from the sampler's own stats through

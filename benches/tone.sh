@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tone and edges of the textured looks against G'MIC's counterparts (issue 13), measured by the
+# Tone and edges of the textured looks against G'MIC's counterparts, measured by the
 # independent evaluator ../shared/tools/tone.py (luma blurred at 2 px: PSNR, SSIM, and edge
 # recall, the share of the photo's strongest edges that survive in place and direction).
 #

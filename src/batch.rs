@@ -1,11 +1,12 @@
 //! Folder batches: which files to paint and where each result goes ([`plan`]), and running the
 //! items over a few worker threads with bounded memory ([`run`]), going on past bad files.
 //!
-//! Outputs keep the folder structure below each source folder and are named
-//! `STEM.STYLE.EXT`, `EXT` one of [`OUTPUT_FORMATS`] (PNG unless asked). An output that exists
-//! is skipped unless forced, and every output is written atomically (temporary file, then
-//! rename), so a batch that was interrupted is resumed by running it again. `--shard i/n` keeps every n-th item of the sorted list, so the same batch
-//! can be spread over machines (GNU parallel, Slurm job arrays) with no overlap.
+//! Outputs keep the folder structure below each source folder and are named `STEM.STYLE.EXT`, `EXT`
+//! one of [`OUTPUT_FORMATS`] (PNG unless asked). An output that exists is skipped unless forced,
+//! and every output is written atomically (temporary file, then rename), so a batch that was
+//! interrupted is resumed by running it again. `--shard i/n` keeps every n-th item of the sorted
+//! list, so the same batch can be spread over machines (GNU parallel, Slurm job arrays) with no
+//! overlap.
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};

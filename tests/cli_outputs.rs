@@ -2,7 +2,7 @@
 //! standard input); a named pipe, and `/dev/stdout` on a pipe, are written in place (the pipe
 //! stays a pipe), and a reader that hangs up is an error (exit 2, "Broken pipe"); a symbolic
 //! link stays a link and its target gets the picture; a missing folder is reported with the
-//! user's path, never the temporary file's. Devices are not touched here (`/dev/full` was checked by hand, see the README):
+//! user's path, never the temporary file's. Devices are not touched here (`/dev/full` was checked by hand, see docs/cli.md):
 //! a regression would replace the machine's device node.
 
 use assert_cmd::Command;

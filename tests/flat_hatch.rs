@@ -1,4 +1,4 @@
-//! Flat areas are hatched evenly (issue 13, item 2): where the field has no direction (a flat
+//! Flat areas are hatched evenly: where the field has no direction (a flat
 //! grey photo, a constant isotropic field) pen-hatch and cross-hatch lay lines at the preset's
 //! `flat_angle` (−45°: rising to the right on screen) that run on from cell to cell, with the
 //! tone the picture asks for, instead of fading every cell to one flat grey.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The long fuzz campaign of tests/fuzz.rs (issue 12): every image decoder path, the .npy reader
+# The long fuzz campaign of tests/fuzz.rs: every image decoder path, the .npy reader
 # and the preset parser, CASES mutated files each (default 100 000), from a new SEED each run
 # (default: the time), in release mode. A failure prints the case seed that replays it:
 #   FUZZ_SEED=<seed> FUZZ_CASES=<n> cargo test --release --test fuzz

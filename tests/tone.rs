@@ -147,8 +147,7 @@ fn flat_grey_read(img: &RgbImage) -> f64 {
 fn ink_looks_keep_flat_greys() {
     // A flat grey, hatched, cross-hatched or engraved in black ink on cream paper, reads from
     // afar (the mean luma away from the borders) as the same grey within 3 levels (measured:
-    // within 1.7). Under the tone curve of γ = 0.9 the hatchings had until stop 37, 200 read
-    // 191 and 120 read 113.
+    // within 1.7; under a tone curve of γ = 0.9, 200 would read 191 and 120 read 113).
     for style in ["pen-hatch", "crosshatch", "engraving"] {
         flat_greys_come_back(style, &[50, 90, 140, 200], 3.0);
     }

@@ -132,9 +132,9 @@ impl PresetArgs {
 /// Options shared by every command that reads an input.
 #[derive(Debug, Args)]
 struct InputArgs {
-    /// A photo (PNG, JPEG, TIFF, WebP, GIF, BMP, PNM), a .npy tensor field (H, W, 3) of (t11, t12, t22), or
-    /// analytic:NAME[:key=value,...] with NAME one of constant, circular, degenerate-point,
-    /// two-point-load.
+    /// A photo (PNG, JPEG, TIFF, WebP, GIF, BMP, PNM), a .npy tensor field (H, W, 3) of (t11, t12,
+    /// t22), or analytic:NAME[:key=value,...] with NAME one of constant, circular,
+    /// degenerate-point, two-point-load.
     input: String,
     /// Width of an analytic field's domain in pixels [default: 512].
     #[arg(long)]
@@ -167,9 +167,8 @@ pub fn main() -> ExitCode {
 /// woken again (a painting makes hundreds of loops, the sampler three per relaxation
 /// iteration), and the pool has the configured number of threads, the main one among them.
 /// The main thread keeps its own heap, where the sampler's large sequential buffers come from
-/// (run on another worker instead, a million samples peaked at 713 MB, not 638 MB). Measured
-/// (whole processes, medians of 3-5): a 1 MP mosaic 0.45 → 0.39 s on one thread and
-/// 0.27 → 0.24 s on two, `sample` of the rotating 4:1 field 0.21 → 0.18 s. Not for `batch`,
+/// (run on another worker instead, a million samples would peak about a tenth higher). Not
+/// for `batch`,
 /// whose workers are threads of their own: one that paints outside its pool hands its loops to
 /// the global pool, which must then have threads other than the waiting main one. A pool
 /// already built (a second call) is kept.

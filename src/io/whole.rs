@@ -1,7 +1,7 @@
-//! Whether a file is whole before it is decoded: decoders stop once they have the pixels
-//! (a PNG without its end chunk decodes, so does a GIF cut after its first frame) or fill a missing tail with grey and report success
-//! (JPEG), so a file cut short would be painted as if it were whole. Each check walks the
-//! format's own structure to its end marker and names where the file stops.
+//! Whether a file is whole before it is decoded: decoders stop once they have the pixels (a PNG
+//! without its end chunk decodes, so does a GIF cut after its first frame) or fill a missing tail
+//! with grey and report success (JPEG), so a file cut short would be painted as if it were whole.
+//! Each check walks the format's own structure to its end marker and names where the file stops.
 
 /// Checks that a JPEG's segments and entropy-coded scans run to its end-of-image marker (EOI),
 /// walking the markers (lengths of header segments, stuffed bytes and restart markers inside

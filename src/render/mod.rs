@@ -1,12 +1,12 @@
-//! Pictures from samples (paper sections 6 and 7). The samples' generalized Voronoi cells, or
-//! cells that stop at the photo's edges, rasterised onto the output ([`cells`]); lines read
-//! from the photo and the field that several looks share ([`lines`]); what every look reads
-//! ([`scene`]); the looks, one folder each, and the [`Look`] that picks one ([`looks`]); their
-//! vector form ([`vector`]); outlines and highlights laid over them (`overlay`); contact sheets ([`sheet`]) and previews of fields and samplings
-//! ([`preview`]); colour, hashes and rounding below them all ([`support`]). Everything runs on
-//! the CPU with rayon, at any output size: the cells are resolution independent. Imports go
-//! one way, `support` → `cells` → `lines` → `scene` → `vector` → `looks` (`ARCHITECTURE.md`,
-//! checked by `tests/architecture.rs`).
+//! Pictures from samples (paper sections 6 and 7). The samples' generalized Voronoi cells, or cells
+//! that stop at the photo's edges, rasterised onto the output ([`cells`]); lines read from the
+//! photo and the field that several looks share ([`lines`]); what every look reads ([`scene`]); the
+//! looks, one folder each, and the [`Look`] that picks one ([`looks`]); their vector form
+//! ([`vector`]); outlines and highlights laid over them (`overlay`); contact sheets ([`sheet`]) and
+//! previews of fields and samplings ([`preview`]); colour, hashes and rounding below them all
+//! ([`support`]). Everything runs on the CPU with rayon, at any output size: the cells are
+//! resolution independent. Imports go one way, `support` → `cells` → `lines` → `scene` → `vector` →
+//! `looks` (`ARCHITECTURE.md`, checked by `tests/architecture.rs`).
 
 pub mod cells;
 pub mod lines;

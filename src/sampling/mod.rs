@@ -126,10 +126,9 @@ pub struct Sampling {
 /// field of a few megabytes instead of tens keeps the per-particle look-ups in cache: on a
 /// 1024² field they were half of the run. A uniform field is the same at any spacing (each
 /// block's mean is its nodes' one value, exactly); one larger than the cache
-/// ([`UNIFORM_COARSENING_FROM`] nodes) is averaged over the largest blocks: the
-/// million-sample constant field of issue 14 (4096², 200 MB) became 64² nodes, and its
-/// lattice seeding 1.0 → 0.6 s with the same samples. (Smaller ones keep their grid, which the
-/// darts' density sampler draws its cells from: the same draws as before.)
+/// ([`UNIFORM_COARSENING_FROM`] nodes) is averaged over the largest blocks (a constant field of
+/// 4096², 200 MB, becomes 64² nodes with the same samples). Smaller ones keep their grid, which
+/// the darts' density sampler draws its cells from.
 /// A field that needs no coarsening is borrowed, not copied (a 4096² field is 200 MB).
 fn sampling_field<'a>(
     field: &'a TensorField,

@@ -94,30 +94,22 @@ pub enum Seeding {
 }
 
 /// [`Seeding::Auto`] seeds with the lattice from this many estimated samples up. The lattice's
-/// defects are seams along which the bent lattice meets itself; their length is set by how much
-/// the field turns, not by the count, so their share of the samples falls as the count grows,
-/// while dart throwing's rejections grow with it. Measured (coverage / overlap after
-/// relaxation, darts against lattice): `circular` at 670 samples 86.8 / 1.5 % against
-/// 86.5 / 1.9 %, at 4 000 samples 87.1 / 0.85 % against 88.1 / 0.86 %, at 16 000 86.8 / 0.67 %
-/// against 87.1 / 0.47 %; the rotating 4:1 field at 11 000 87.2 / 0.75 % against
-/// 87.1 / 0.62 %; a constant 2:1 field at 1 M 86.9 / 0.63 % in 32 s against 90.7 / 0.02 % in
-/// 9.4 s (all before the lattice's fill pass, which adds 0.2–0.8 % coverage on top, see
-/// [`LatticeParams::fill_rho`]). Photos at painting sizes (1.5–3 k samples) come out the same either way
-/// (`benches/fidelity.sh`).
+/// defects are seams along which the bent lattice meets itself; their length is set by how much the
+/// field turns, not by the count, so their share of the samples falls as the count grows, while
+/// dart throwing's rejections grow with it. Measured (coverage / overlap after relaxation, darts
+/// against lattice): `circular` at 670 samples 86.8 / 1.5 % against 86.5 / 1.9 %, at 4 000 samples
+/// 87.1 / 0.85 % against 88.1 / 0.86 %, at 16 000 86.8 / 0.67 % against 87.1 / 0.47 %; the rotating
+/// 4:1 field at 11 000 87.2 / 0.75 % against 87.1 / 0.62 %; a constant 2:1 field at 1 M 86.9 / 0.63
+/// % in 32 s against 90.7 / 0.02 % in 9.4 s (all before the lattice's fill pass, which adds 0.2–0.8
+/// % coverage on top, see [`LatticeParams::fill_rho`]). Photos at painting sizes (1.5–3 k samples)
+/// come out the same either way (`benches/fidelity.sh`).
 pub const LATTICE_FROM_COUNT: f64 = 2000.0;
 
 /// [`Seeding::Auto`] seeds a constant metric with the lattice from this many estimated samples
 /// up: the lattice is that field's hexagonal packing, and only the rows along the walls need
-/// the relaxation. Measured with the lattice at its default angle on constant fields on
-/// 800×600, anisotropy 1.5, 3 and 5 at 0°, 20°, 45° and 70° (coverage / overlap after
-/// relaxation, darts → lattice; rows along the walls, `lattice::wall_phase`, came later):
-/// - at 1 386 estimated samples (about 1 450 placed) 87.3 → 90.0 % on average, none over 1 %
-///   either way;
-/// - at 1 145 (about 1 200 placed) 87.8 → 89.6 %, overlap 0.22–0.99 % against 0.70–0.97 %;
-///   only 5:1 along an axis covered less (87.9 → 87.2 %);
-/// - at 962 (about 1 000 placed) +1.8 points, but one field overlapped 1.02 % and 5:1 along an
-///   axis fell to 84.7 %; at 616 (about 650 placed), 5 fields of 12 overlapped over 1 % (darts:
-///   1), the wall rows being a large share of the samples.
+/// the relaxation. Below it the rows along the walls are a large share of the samples and
+/// the lattice packs no better than darts (some fields overlap over 1 %); from it up it covers
+/// about two points more.
 pub const LATTICE_FROM_COUNT_UNIFORM: f64 = 1200.0;
 
 impl Seeding {
@@ -203,16 +195,10 @@ impl SamplerParams {
     /// what it lacks are the small holes of its seams: it runs [`LATTICE_ITERATIONS`] of the
     /// iterations, controls its population twice as often (each round fills the holes the
     /// last one's insertions have opened up), and settles over [`LATTICE_SETTLING`] of the
-    /// settling iterations, repaired as often as ever there. Measured with
-    /// `benches/packing.py`, coverage / overlap / p5 of the nearest distances, the paper's
-    /// course against this one: the rotating 4:1 field at 11 000 samples 87.91 / 0.79 % /
-    /// 0.924 against 87.98 / 0.85 % / 0.922, at 4 000 88.04 / 0.92 % / 0.922 against 87.84 /
-    /// 0.98 % / 0.920, at 30 000 87.49 / 0.52 % / 0.936 against 87.46 / 0.61 % / 0.932;
-    /// isotropic sizes growing 3× 88.16 / 0.54 % against 87.94 / 0.62 %; a constant 2:1 field
-    /// 90.44 / 0.09 % / 0.974 against 90.48 / 0.11 % / 0.970; the whole `sample` of the
-    /// rotating field 126 → 102 ms (BAMG 116 ms in the same run). Dart-thrown seeds keep the
-    /// paper's course: on them (photos, small fields) the faster one raised the overlap (a
-    /// two-point load 1.0 → 1.8 %, a motorcycle 0.8 → 1.2 %).
+    /// settling iterations, repaired as often as ever there: it packs as tightly as the
+    /// paper's course (`benches/packing.py`) in about four fifths of the time. Dart-thrown seeds
+    /// keep the paper's course: on them (photos, small fields) the shorter one raises the
+    /// overlap.
     #[must_use]
     pub fn schedule(&self, seeding: Seeding) -> Schedule {
         let given = Schedule {

@@ -42,9 +42,8 @@ pub(super) fn rebuild(
 /// neighbours' triangles turn back too (at most [`UNDO_ROUNDS`]); whether the mesh is then
 /// valid. Smooth fields rarely turn a triangle over (one build in a run on the rotating 4:1
 /// field, one to three on photos); a field whose orientation has singular points at full
-/// anisotropy (11 k ellipses, their axes the direction of a random vector field) kept doing
-/// it near them, and each time the whole triangulation was rebuilt: 26 builds, 369 of its
-/// 507 ms, now 2 builds and 68 ms (coverage 85.8 → 85.7 %, overlap 2.3 → 1.9 %).
+/// anisotropy (ellipses along a random vector field's direction) keeps doing it near them, and
+/// taking the motion back spares a rebuild of the whole triangulation each time.
 pub(super) fn undo_turnovers(mesh: &AnisotropicDelaunay, particles: &mut Particles) -> bool {
     for _ in 0..UNDO_ROUNDS {
         let turned = mesh.turned_over_at(&particles.positions);
@@ -335,9 +334,9 @@ pub(super) fn relax_once(
     largest
 }
 
-/// Between the regular repairs, the triangulation is repaired as soon as some particle has
-/// moved this many of its sizes since the last one. Early on, when the seed's particles still travel far, eight
-/// iterations can invert triangles, and an inverted mesh must be rebuilt from scratch: on a
+/// Between the regular repairs, the triangulation is repaired as soon as some particle has moved
+/// this many of its sizes since the last one. Early on, when the seed's particles still travel far,
+/// eight iterations can invert triangles, and an inverted mesh must be rebuilt from scratch: on a
 /// photo's metric with 8 k samples, four rebuilds of the first 32 iterations (12 ms each) became
 /// about sixteen extra repairs (2 ms each), and the flips halved.
 pub(super) const REPAIR_DRIFT: f64 = 1.5;

@@ -2,20 +2,20 @@
 //! population control deletes overcrowded samples): each removed vertex's star becomes a hole,
 //! filled by clipping ears of its ring of neighbours (exact orientation tests), and Lawson flips
 //! from the edges around the holes restore the generalised criterion, as after an insertion.
-//! A fresh build of the whole mesh for each round that deleted a sample or two cost up to a
-//! fifth of a run (the rotating 4:1 test field, 11 k samples: 62 → 30 ms of triangulation).
+//! A fresh build of the whole mesh for each round that deleted a sample or two would cost up
+//! to a fifth of a run.
 
 use super::delaunay::{next, orient, prev, AnisotropicDelaunay, NONE};
 use crate::field::TensorField;
 use glam::DVec2;
 
 impl AnisotropicDelaunay {
-    /// Removes the interior vertices `gone` (sorted), each star's hole triangulated by ear
-    /// clipping and then made legal by Lawson flips from the edges around the holes, as
-    /// [`Self::legalize_around`] does: the local counterpart of a fresh build without them. Vertex indices are kept (the gone ones are no longer used: renumber after
-    /// removing the points). Returns `false`, with the mesh unchanged, when one of them lies on
-    /// the hull, neighbours another, or its hole has no ear to clip at `points` (degenerate):
-    /// then rebuild.
+    /// Removes the interior vertices `gone` (sorted), each star's hole triangulated by ear clipping
+    /// and then made legal by Lawson flips from the edges around the holes, as
+    /// [`Self::legalize_around`] does: the local counterpart of a fresh build without them. Vertex
+    /// indices are kept (the gone ones are no longer used: renumber after removing the points).
+    /// Returns `false`, with the mesh unchanged, when one of them lies on the hull, neighbours
+    /// another, or its hole has no ear to clip at `points` (degenerate): then rebuild.
     pub fn remove_vertices(
         &mut self,
         gone: &[u32],

@@ -71,10 +71,9 @@ impl Default for CellParams {
     fn default() -> Self {
         CellParams {
             kind: CellKind::Edges,
-            // Chosen on the shared photos with benches/fidelity.sh: at w = 300 and a reach of
-            // one ellipse radius every photo's cells beat SLIC's at equal count in PSNR and
-            // SSIM, with 0.4-1.4 % of pixels in detached pieces (a reach of 0.5 keeps pieces
-            // under 0.4 % but trails SLIC on fur; w = 1000 adds nothing).
+            // Chosen with benches/fidelity.sh: at w = 300 and a reach of one ellipse radius the
+            // cells beat SLIC superpixels at equal count in PSNR and SSIM, with few pixels in
+            // detached pieces (a reach of 0.5 trails SLIC on fur; a larger w adds nothing).
             colour_weight: 300.0,
             iterations: 5,
             reach: 1.0,
@@ -304,13 +303,10 @@ fn grain_share(sigma: f64) -> f32 {
 /// whole [`CellParams::blur_px`]: the least above none the estimate gives (a median response
 /// of one level is 0.247), so every camera photo measured takes it (0.25–10 levels: noise,
 /// fur, grass; a logo's anti-aliased ground 0.25). A drawing or a render whose pixels are
-/// mostly flat or ramps has none (a black horse on white, a colour wheel), and the blur only
-/// spread its hard edges into bands of grey, which thin cells along the edge took for their
-/// colour: the horse's cells against the photo (`fidelity.py`) 26.2 dB, SLIC's 35.7;
-/// unblurred 33.2, with 83 pieces detached from their cells instead of 734. A photo enlarged
-/// seven times (the 12 MP benchmark, made from a 600 × 400 one) has none at the pixel either,
-/// its grain spread over pixels a 1 px blur does not reach: 98.2 % of its pixels keep their
-/// cell.
+/// mostly flat or ramps has none (a black horse on white, a colour wheel), and the blur would
+/// only spread its hard edges into bands of grey, which thin cells along the edge would take
+/// for their colour. A photo enlarged several times has none at the pixel either, its grain
+/// spread over pixels a 1 px blur does not reach.
 const GRAIN_FOR_FULL_BLUR: f64 = 0.2;
 
 /// How much more the colour term weighs in a photo whose colours span `spread`
@@ -323,13 +319,11 @@ fn low_contrast_boost(spread: f64) -> f64 {
 }
 
 /// The range of colours ([`colour_spread`]) under which a photo is dim or flat (underexposed,
-/// foggy) and its colour differences weigh more ([`low_contrast_boost`]). The weight `w` was
-/// chosen on photos spanning 0.42–0.99. An underexposed astronaut (every value × 0.15,
-/// spread 0.15) kept its cells as round as the paper's, her smile and eyes gone (mosaic edge
-/// recall of `tone.py` 0.73, strokes 0.78, pen-hatch 0.89, against 0.92, 0.96 and 0.97 for the
-/// photo); weighed as at 0.3, they follow her features (0.78, 0.82, 0.94). Weighed as at 0.6
-/// the dim photo's cells were those of the bright one, but a brick wall (0.42) and a page of
-/// handwriting (0.45) came out ragged, their mortar and strokes in many small pieces.
+/// foggy) and its colour differences weigh more ([`low_contrast_boost`]). The weight `w` suits
+/// photos spanning 0.42–0.99; in an underexposed one the same weight would leave the cells as
+/// round as the paper's (a face's smile and eyes gone), weighed as at 0.3 they follow its
+/// features. Weighed as at 0.6, a brick wall (0.42) or a page of handwriting (0.45) would come
+/// out ragged, their mortar and strokes in many small pieces.
 const LOW_CONTRAST_SPREAD: f64 = 0.3;
 
 /// `rgb` blurred with a Gaussian of `sigma` pixels (none for σ ≤ 0), all channels at once in
@@ -369,11 +363,9 @@ impl CellStats {
 const STATS_STRIDE: usize = 8;
 
 /// The last this many sums of the assign-and-move rounds (the final colours among them) use
-/// [`BLOCKS_PER_CELL`]; the earlier ones [`COARSE_BLOCKS_PER_CELL`]. Measured with
-/// `../shared/tools/fidelity.py` on the shared photos at 1100 px (2 000-2 700 cells): every
-/// round at 16 blocks per cell lost 0.07-0.26 dB, the first three rounds at 16 and the last
-/// three at 64 scored within 0.04 dB and 0.001 SSIM of all six at 64, and the rounds of a
-/// 1 MP photo took 96 ms on one thread instead of 122.
+/// [`BLOCKS_PER_CELL`]; the earlier ones [`COARSE_BLOCKS_PER_CELL`]: the early rounds only
+/// move the sites, so coarse sums serve them as well as fine ones (the cells as good, in less
+/// time), while the final colours need the fine ones.
 const FINE_ROUNDS: usize = 3;
 
 /// Blocks per cell of the first rounds' sums.

@@ -18,28 +18,18 @@ use super::sums::pixel_sums;
 use super::voronoi::VoronoiCells;
 
 /// A cell whose pixels' luma has a standard deviation under this (levels of 255) has no
-/// structure of its own. Measured with `tone.py` on 22 held-out pictures (seed 7), pen-hatch
-/// without / with it at 2, 3 and 5 levels (such cells then taken as round cells of their
-/// area): PSNR 35.13 / 35.79 / 36.41 / 37.15 dB, edge recall 0.883 / 0.899 / 0.919 / 0.935. At
-/// 5 a face's smooth cheeks lose the lines that follow their form (looked at); at 3 they keep
-/// them, and the halos round masts, wires and contours are gone. At 3, with their own axes
-/// kept: pen-hatch 36.39 dB, SSIM 0.9574 → 0.9697, recall 0.921; crosshatch 36.10 → 36.73 dB,
-/// SSIM 0.9633 → 0.9690, recall 0.909 → 0.927; no picture loses 0.2 dB or 0.005 of SSIM.
+/// structure of its own: at 3 levels the halos of lines round masts, wires and contours in a
+/// plain go, while a face's smooth cheeks keep the lines that follow their form (at 5 they
+/// lose them).
 pub const QUIET_STD: f64 = 3.0;
 
 /// The largest standard deviation, over a cell, of the plane that best fits its luma (or a
 /// channel) for the cell still to count as quiet about a gentle ramp (levels of 255). A sky's
 /// gradient over a large cell is a plane of 1.5–4 levels (a dusk sky 960 px wide, cells of
-/// 25–30 px); a colour wheel's hues turn by 7 or more over its cells. Measured with `tone.py`
-/// (seed 7), brush strokes with flat areas by colour about the plane, 22 held-out pictures:
-/// without a bound PSNR 39.50 → 39.35 dB, the colour wheel −2.7 dB and edge recall 0.948 →
-/// 0.798 (its hues laid flat); at 8, 39.40 dB (wheel −1.6 dB); at 5, 39.47 dB, the wheel as
-/// before. The hatchings with luma about the plane (against the plain spread), at 5: pen-hatch
-/// 36.04 → 36.45 dB, SSIM 0.9443 → 0.9474, recall 0.9145 → 0.9223 on the 22, and on 13 other
-/// photos (KDE's wallpapers, Grace Hopper) 31.11 → 31.87 dB, SSIM 0.885 → 0.904, recall 0.820
-/// → 0.836 (a dusk sky +8 dB: a patch of level lines along its glow is gone); crosshatch
-/// 36.38 → 36.59 dB and 31.41 → 32.07 dB; no picture loses 0.4 dB (a misty lake −0.34, the
-/// fundus photo −0.15 with recall 0.524 → 0.502).
+/// 25–30 px); a colour wheel's hues turn by 7 or more over its cells. Without a bound a
+/// colour wheel's hues would be laid flat; at 5 levels a sky's gradient is quiet (hatched at
+/// the flat angle, not in a patch of level lines along its glow) and the wheel keeps its
+/// hues.
 pub const RAMP_STD: f64 = 5.0;
 
 /// Per cell of `cells`, whether it has no structure of its own: its pixels' luma departs from

@@ -24,11 +24,9 @@ const FLAT_WEIGHT: f64 = 0.04;
 /// times the line spacing, added with [`COARSE_WEIGHT`]. Where the field is strongly
 /// anisotropic the fine tensors outweigh it and the lines keep to the form.
 const COARSE_SIGMA: f32 = 6.0;
-/// Weight of the coarse neighbourhood's direction tensors against the fine ones. On the five
-/// shared photos and six of scikit-image's (seed 7, `tone.py`), 0 → 2: blurred SSIM up on ten
-/// of eleven (camera 0.796 → 0.820, brick 0.766 → 0.801, a rocket under a night sky 0.693 → 0.723),
-/// the lines in flat and dark areas long and calm instead of swirling with the grain; edge
-/// recall down only on a textured wall behind a clock (0.894 → 0.848).
+/// Weight of the coarse neighbourhood's direction tensors against the fine ones: the lines in
+/// flat and dark areas run long and calm instead of swirling with the grain, at the cost of a
+/// little of a textured wall's edges.
 const COARSE_WEIGHT: f32 = 2.0;
 /// The run of the lines over a whole region (a sky, a wall, a field of grass): the direction
 /// tensors blurred over this many line spacings, added with [`WIDE_WEIGHT`]. It leads only

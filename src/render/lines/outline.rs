@@ -113,8 +113,7 @@ pub fn lines_of(responses: &EdgeResponses, ink: OutlineInk) -> Vec<f32> {
     // Its response is the difference of Gaussians above what a flat area of that lightness
     // gives, `(1 − ρ)·L`, negated so that the same walk and threshold find it; each node keeps
     // the stronger of its two sides before the walk (along an edge the side does not change,
-    // so this is about the stronger of two walks, at the cost of one: measured on strokes,
-    // tone.py's means came out a little higher than with two walks).
+    // so this is about the stronger of two walks, at the cost of one).
     let walked = if ink == OutlineInk::Pixel {
         let mut dog = responses.dog.clone();
         for (d, &l) in dog.iter_mut().zip(light) {

@@ -22,10 +22,8 @@
 
 use crate::field::blur::gaussian_blur_parallel_mut;
 
-/// The gain on the threshold's argument where the lines are sparse. Measured on 22 photos in
-/// `strokes` (`tone.py`, the gain's density then the lines' mean ink): 3, 4 and 6 gave 39.06,
-/// 39.19 and 39.37 dB against 38.63 without; a gain of 2 everywhere made grass photographic
-/// (+3 dB on it, against +0.3 here).
+/// The gain on the threshold's argument where the lines are sparse (a gain everywhere would
+/// make grass photographic).
 pub const SPARSE_GAIN: f32 = 6.0;
 
 /// Share of inked nodes at and under which the gain is whole.

@@ -1,7 +1,6 @@
 //! The share of the picture the outlines ink around every point, for the ink looks to leave
 //! out of their own tone. Outlines are laid over a look that already gives the photo's tone,
-//! so along every edge they would add their ink to the look's and darken it (on 20 photos,
-//! full-strength outlines cost the engraving 2.3 dB of `tone.py`'s blurred PSNR). A hatching
+//! so along every edge they would add their ink to the look's and darken it. A hatching
 //! or an engraving that knows how much the outlines will ink nearby draws that much less
 //! itself: with outlines inking a share `e` of an area over the look's `d'`, the area reads
 //! `e + (1 − e)·d'`, which is the photo's darkness `d` at `d' = (d − e) / (1 − e)`.
@@ -30,9 +29,8 @@ pub struct OutlineShare {
 }
 
 /// σ of the blur of the line map, in nodes of the structure tensor's grid (analysis pixels),
-/// about a line spacing of the hatching there. Of 1, 1.5 and 2 nodes, the one that loses on
-/// none of `tone.py`'s figures (blurred PSNR, SSIM, edge recall) for pen-hatch, crosshatch and
-/// engraving on 20 photos: at 1 pen-hatch's recall fell 0.001, at 2 its PSNR 0.4 dB.
+/// about a line spacing of the hatching there (narrower, the looks keep the edges a little
+/// worse; wider, the tone beside the lines drifts).
 pub const SHARE_BLUR: f32 = 1.5;
 
 /// The outlines never take more than this share of an area's tone: the look keeps some ink

@@ -60,21 +60,17 @@ const SEED_RATIO: f64 = 0.9;
 /// there and the line stops.
 const MAX_TURN_COS: f64 = 0.766;
 /// A line runs on this many steps (two spacings) past the picture's border, where the lines
-/// beside it find it as their neighbour. Lines that ended at the border left, where they meet
-/// it at a slant, the corner between one line's end and the next line as paper on no line's
-/// normal: dots of paper along the border of dark areas. On 22 photos (`tone.py`, seed 7),
-/// one spacing past raised the blurred PSNR from 34.38 to 34.60 dB (SSIM and edge recall
-/// within 0.0005) and cut the rocket's light border pixels from 3.4 % to 0.9 %; two spacings
-/// keep the means and cut them to 0.5 % (a slanted line goes only `sin θ` as deep).
+/// beside it find it as their neighbour. Lines that ended at the border would leave, where
+/// they meet it at a slant, the corner between one line's end and the next line as paper on no
+/// line's normal: dots of paper along the border of dark areas. Two spacings, as a slanted
+/// line goes only `sin θ` as deep.
 const OUTSIDE_STEPS: usize = 8;
 /// The gaps to the neighbouring lines are looked for up to this share of `d_sep` away; no line
 /// there counts as a gap of `d_sep` (a border, a break). A gap narrower than twice a seed's
 /// clearance can take no new line, so it is the paper of the two lines beside it, however
 /// wide: where lines part (round a form, or fanning out), their shares, and so their widths,
-/// grow with it until a new line fits. At 1.5 spacings, gaps of 1.5 to 1.8 counted as one
-/// spacing, and dark areas where lines part kept hairlines of paper (a dark coat, a night sky;
-/// `tone.py`, seed 7, mean of 20 pictures: blurred SSIM 0.819 → 0.846, PSNR 26.5 → 28.9 dB,
-/// edge recall 0.827 → 0.828).
+/// grow with it until a new line fits. (At 1.5 spacings, gaps of 1.5 to 1.8 would count as
+/// one spacing, and dark areas where lines part keep hairlines of paper.)
 const GAP_REACH: f64 = 2.0 * SEED_RATIO;
 /// A line's own points this share of `d_sep` or more across it are the line come round again
 /// (see [`PackedGrid::halves`]): the inside of a loop or of a spiral's next turn is the paper
@@ -187,11 +183,10 @@ impl Tracer<'_> {
     /// Seeds the gaps that the seeds one spacing from a line miss. A gap wider than
     /// [`GAP_REACH`] (two seed clearances) no longer counts as the paper of the two lines
     /// beside it, but one under 1.9 spacings (one spacing and one clearance) has no room one
-    /// spacing from either side, so it took no line, and its two lines inked a spacing of it
-    /// between them: a strip of paper down the middle (white scratches on a night sky or a
-    /// dark coat). Seeds one clearance from every line (lines laid by this pass included) fit
-    /// in the gaps wider than two clearances. On 22 photos (`tone.py`, seed 7) the engraving's
-    /// blurred PSNR rose from 33.1 to 34.4 dB, SSIM 0.919 → 0.924, edge recall 0.886 → 0.889.
+    /// spacing from either side, so it would take no line, and its two lines would ink a
+    /// spacing of it between them: a strip of paper down the middle (white scratches on a night
+    /// sky or a dark coat). Seeds one clearance from every line (lines laid by this pass
+    /// included) fit in the gaps wider than two clearances.
     fn fill_wide_gaps(&mut self) {
         let off = (SEED_RATIO + 1e-6) * self.layout.d_sep;
         let mut id = 0;
@@ -397,10 +392,8 @@ impl PackedGrid {
     /// Point `i` of line `line`'s shares across the lines: half the gap to the nearest other
     /// line on its left (along [`normal_at`]) and half that on its right; with no line on a
     /// side but the picture's border within [`GAP_REACH`], the whole strip up to the border.
-    /// (As half a spacing, that strip was paper along a border the lines run beside: a third
-    /// of the top and bottom rows of dark bands, a dotted edge on a dark lake; `tone.py`, seed
-    /// 7, engraving on 22 held-out pictures 36.76 → 37.20 dB, SSIM 0.9601 → 0.9607, recall
-    /// 0.9267 → 0.9274; on 13 photos 33.84 → 34.16 dB; none worse.)
+    /// (As half a spacing, that strip would be paper along a border the lines run beside: a
+    /// dotted edge on a dark lake.)
     fn halves(&self, points: &[DVec2], i: usize, line: u32, d_sep: f64) -> [f64; 2] {
         let p = points[i];
         let n = normal_at(points, i);

@@ -1,4 +1,4 @@
-//! The engraving look (issue 13, item 3; after Ostromoukhov, *Digital Facial Engraving*, 1999):
+//! The engraving look (after Ostromoukhov, *Digital Facial Engraving*, 1999):
 //! long parallel lines that follow the form across the whole picture, evenly spaced
 //! ([`crate::render::lines::streamlines`], along the metric's long axes, paper section 3) and
 //! swelling and thinning with tone, broken only at strong edges.
@@ -13,21 +13,17 @@
 //! swell past their share until neighbours merge into solid ink (`engrave_tone::LineShares`).
 //! Taking the two sides apart resolves the tone at half a spacing across the lines (a mast or a
 //! wire between two lines shows), and where lines part unevenly the ink follows the wider gap
-//! instead of overrunning the narrower one (on 20 photos, `tone.py`'s blurred PSNR 28.9 → 30.3 dB,
-//! SSIM 0.845 → 0.899, edge recall 0.828 → 0.869, every photo better). The tone is the photo's
-//! lightness blurred over a fifth of a line spacing (finer than the cells), or `tone` for a field
-//! without a photo, less what the outlines laid over the engraving will ink
-//! ([`crate::render::lines::outline_share`]; PSNR 30.3 → 32.6 dB, SSIM 0.899 → 0.909, recall 0.869
-//! → 0.876). Lines are drawn by the share of each pixel's square they ink (`stripes.rs`: a hairline
-//! keeps its share of ink, a diagonal line no staircase), joined round; a line's own segments take
-//! the maximum where they overlap, neighbouring lines add up (together they ink the pixels they
-//! share), and ink is mixed with the paper in the sRGB encoding, as the hatch looks are (the
-//! textured looks). Where the tone is darker than the ink itself, the ink is laid again, darkened
-//! to the tone ([`engraving`]; on 22 held-out photos `tone.py`'s PSNR 34.4 → 36.7 dB, SSIM 0.926 →
-//! 0.975), and so it is where the lines leave slits in the dark tones (36.65 → 36.78 dB, SSIM
-//! 0.9757 → 0.9762, recall 0.9342 → 0.9350; greys 30 to 42, which all read as the ink, 29, now read
-//! as themselves). Coverage is `f32`, geometry `f64` in domain units until it is scaled to output
-//! pixels.
+//! instead of overrunning the narrower one. The tone is the photo's lightness blurred over a fifth
+//! of a line spacing (finer than the cells), or `tone` for a field without a photo, less what the
+//! outlines laid over the engraving will ink ([`crate::render::lines::outline_share`]). Lines are
+//! drawn by the share of each pixel's square they ink (`stripes.rs`: a hairline keeps its share of
+//! ink, a diagonal line no staircase), joined round; a line's own segments take the maximum where
+//! they overlap, neighbouring lines add up (together they ink the pixels they share), and ink is
+//! mixed with the paper in the sRGB encoding, as the hatch looks are (the textured looks). Where
+//! the tone is darker than the ink itself, the ink is laid again, darkened to the tone
+//! ([`engraving`]), and so it is where the lines leave slits in the dark tones (so greys a little
+//! lighter than the ink read as themselves, not as the ink). Coverage is `f32`, geometry `f64` in
+//! domain units until it is scaled to output pixels.
 
 pub(crate) mod svg;
 mod tone;

@@ -94,11 +94,8 @@ pub fn fabric(scene: &Scene, params: &FabricParams) -> RgbImage {
     // A photo's streamlines follow its calm line field (`line_field.rs`, the engraving's and
     // the strokes'), a field's its own long axes: they cross a photo's flat areas in long calm
     // runs at `flat_angle` and follow its forms where its direction holds; along the metric's
-    // own axes they swirled round every faint gradient, a structure the photo does not have (a
-    // rocket's night sky in loops, a kite circled). `tone.py`, seed 7, LIC: 13 photos 34.72 →
-    // 34.87 dB, SSIM 0.923 → 0.925, edge recall 0.856 → 0.848 (soft edges the wide field
-    // crosses: a motion-blurred ball, pastel facets 0.703 → 0.658); 22 held-out 34.15 → 34.37
-    // dB, 0.927 → 0.929, 0.897 → 0.891. Fabric: 36.06 → 36.07 and 37.67 → 37.81 dB.
+    // own axes they would swirl round every faint gradient, a structure the photo does not have
+    // (a night sky in loops). The wide field crosses soft edges (a motion-blurred ball).
     let lines = scene.photo.map(|_| {
         let angle = f64::from(params.flat_angle).to_radians();
         Directions::at_cell_scale(scene.field, angle, scene.cells.positions().len())
@@ -235,11 +232,9 @@ const FIELD_KERNEL_AXES: f64 = 1.2;
 /// The kernel of a pass: for white noise [`kernel_px`]'s everywhere; for the samples' dots
 /// [`FIELD_KERNEL_AXES`] of the long semi-axes at each pixel, from `kernel_px` (the params')
 /// up to [`LOCAL_KERNEL_MOST`] times [`kernel_px`]'s. With the median's kernel everywhere, a
-/// sky's cells (larger than most) left their dots apart: a lattice of soft crosses, a dot per
-/// cell. Measured (`tone.py`, seed 7): 13 photos 35.49 → 36.06 dB, SSIM 0.924 → 0.925, edge
-/// recall 0.831 → 0.824 (a kite's wisps of cloud 0.859 → 0.828); 22 held-out 37.39 → 37.67 dB,
-/// 0.940 → 0.942, 0.907 → 0.905. The same local kernel for the LIC look's white noise lost
-/// 0.2 dB: there it is the grain's length, not the dots' spacing.
+/// sky's cells (larger than most) would leave their dots apart: a lattice of soft crosses, a
+/// dot per cell. White noise keeps one kernel: there it is the grain's length, not the dots'
+/// spacing.
 fn kernel(scene: &Scene, params: &FabricParams, grid: &LicGrid) -> Kernel {
     let median = kernel_px(scene, params, grid).max(1.0).round().min(255.0) as u8;
     match params.noise {

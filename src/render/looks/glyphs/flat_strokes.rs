@@ -17,11 +17,6 @@
 //! is not laid at the one angle. The strokes keep their colours and order; the edge stops and the
 //! coarse-to-fine refinement (`edge_stop.rs`, `refine.rs`) treat them as any other.
 //!
-//! Measured with `tone.py` on 22 held-out pictures (seed 7), strokes: PSNR 39.41 → 39.77 dB,
-//! SSIM 0.9709 → 0.9720, edge recall 0.8998 → 0.8992; skies and plain backgrounds (camera,
-//! clock, horse, logo, page, moon) +0.8 to +1.9 dB, a rocket's night sky +0.3 dB, a noisy
-//! micrograph (cell) −0.14 dB (recall 0.789 → 0.781), no other picture below −0.02 dB.
-//!
 //! Round strokes are scales elsewhere too: a concrete floor's mottle, a sky's faint wisps or
 //! the grain of a plain wall keep the metric round and large (no direction, little detail), but
 //! the cells there are not quiet, and rows of discs in nearly one colour covered them. A
@@ -40,9 +35,8 @@ use crate::render::support::colour::{to_srgb, Linear};
 use crate::render::support::hash::{salt, site_hash};
 use glam::DVec2;
 
-/// A flat area's stroke: this many times as long as it is wide. Measured (`tone.py`, 22
-/// pictures): 3, 4 and 5 give 39.71, 39.77 and 39.81 dB; by eye all three read as a sky laid
-/// in brushwork, 4 kept as the middle.
+/// A flat area's stroke: this many times as long as it is wide (3 to 5 all read as a sky laid
+/// in brushwork; 4 is the middle).
 pub const ASPECT: f64 = 4.0;
 
 /// The largest turn, either way, of a flat area's stroke from the flat angle, and of a
@@ -51,19 +45,15 @@ pub const JITTER_DEGREES: f64 = 10.0;
 
 /// Strokes from this share of the field's largest ellipse (by `√(ab)`) up are lengthened where
 /// their cell is like its neighbours, fully from [`LARGE_FULLY`] on: the round discs that read
-/// as scales are the large ones, where the photo has little detail. Measured with `tone.py`
-/// (22 pictures, seed 7) with every such stroke lengthened whatever its neighbours: PSNR
-/// 39.50 → 39.35 dB, pebbles and grass blurred into streaks (gravel −0.9 dB); hence
-/// [`SIMILAR_LEVELS`].
+/// as scales are the large ones, where the photo has little detail. Lengthened whatever
+/// their neighbours, pebbles and grass would blur into streaks: hence [`SIMILAR_LEVELS`].
 const LARGE_FROM: f64 = 0.5;
 /// See [`LARGE_FROM`].
 const LARGE_FULLY: f64 = 0.8;
 /// A cell whose colour differs from each touching cell's by at most this (sRGB levels, the
-/// largest channel) is lengthened fully, one differing by twice this not at all. Measured with
-/// `tone.py` (22 pictures, seed 7, with the ramp's flat areas): lengthening nothing 39.47 dB,
-/// SSIM 0.9714, recall 0.8911; with 12 (and the size ramp above) 39.52 dB, 0.9716, 0.8906
-/// (gravel and grass as before, floors, walls and wispy skies in long strokes); by the mean
-/// difference instead of the largest (5 to 12 levels), as many scales left in a wispy sky.
+/// largest channel) is lengthened fully, one differing by twice this not at all: floors,
+/// walls and wispy skies go into long strokes, gravel and grass keep their pebbles. (By the
+/// mean difference instead of the largest, a wispy sky would keep many of its scales.)
 const SIMILAR_LEVELS: f64 = 12.0;
 
 /// Lays the strokes of `scene`'s flat areas along `angle` (radians from the x axis, y down),

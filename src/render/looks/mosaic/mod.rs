@@ -119,12 +119,8 @@ pub(crate) fn lead_between(leads: &[Linear], a: u32, b: u32) -> Linear {
 
 /// The lightest the leading is beside a cell, as a share of the cell's light (linear): lead
 /// came is opaque and reads darker than any glass. The preset's leading (`#2a2521`, 16 % grey)
-/// is lighter than dark glass, and drew a grey web over black areas and a light grout over a
-/// dim photo: a black helmet read as a mesh, a deep-field sky as a net on black. Tone.py over
-/// the 22 held-out pictures, mosaic: blurred PSNR 28.04 → 28.22 dB, SSIM 0.734 → 0.763
-/// (astronaut 0.655 → 0.734, deep field 0.852 → 0.949 and +3.2 dB, horse 0.424 → 0.639;
-/// rocket −0.25 dB, coins −0.14); at 0.3 28.11 / 0.759, at 0.7 28.26 / 0.764 with the lines
-/// in dark areas fainter.
+/// is lighter than dark glass, and would draw a grey web over black areas and a light grout
+/// over a dim photo (a black helmet as a mesh, a night sky as a net on black).
 const LEAD_UNDER_GLASS: f32 = 0.5;
 
 /// What the raster and the SVG paint of every cell of a mosaic.
@@ -244,7 +240,7 @@ fn lit_through_leading(scene: &Scene, leading: &[f32], leads: &[Linear]) -> Vec<
                 (steps as f32 * linear_to_srgb(v) - inked) * dx
             };
             // Every channel is lifted by the same share of the lift it needs, the largest
-            // that keeps them all under white: a channel clamped alone turned light skin white
+            // that keeps them all under white: a channel clamped alone would turn light skin white
             // (240, 210, 190 → 255, 255, 240), where this keeps its hue (255, 225, 207).
             let target = c.map(linear_to_srgb);
             let mut v = c;

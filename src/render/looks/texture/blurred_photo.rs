@@ -15,22 +15,15 @@ use rayon::prelude::*;
 
 /// Blur of the photo under the ink, as a fraction of the photo's diagonal: about half a pixel
 /// of a 512² photo, at most 1.4 px of the reduced image (diagonal ≤ `INK_DIAGONAL`) a
-/// larger photo is read from. At 0.002 the pointillist's faces went soft (edge recall of
-/// `tone.py`: camera 0.77, now 0.88); the per-dot colour shift hides the photo's grain.
+/// larger photo is read from (at 0.002 the pointillist's faces go soft); the per-dot colour
+/// shift hides the photo's grain.
 pub const INK_BLUR: f32 = 0.0007;
 
 /// The largest diagonal (px) of the photo the pixel ink reads its colours from and the
-/// hatchings their tone; a larger photo is box-reduced by whole factors to fit. At 1024 a
-/// 960 × 540 photo's dots and lines took their tones from a photo of half its size, and fine
-/// detail faded (a pier's planks, moss, a facade's slats). Measured with `tone.py` (seed 7),
-/// 1024 → 2048, on 13 photos (12 KDE wallpapers of 960 × 540 and a 512 × 600 portrait, which
-/// does not change) and 22 held-out pictures (of which two are over 1024 px: the deep field
-/// and the fundus): pointillist 37.33 → 38.22 dB, SSIM 0.9659 → 0.9705, edge recall 0.786 →
-/// 0.817 (a facade +3.3 dB, moss +2.1) and 41.09 → 41.21 dB (the deep field +2.2); pen-hatch
-/// 31.87 → 32.27 dB, recall 0.836 → 0.845 (moss +2.1, a forest +1.6) and 36.445 → 36.460 dB;
-/// crosshatch 32.07 → 32.46 dB, recall 0.813 → 0.821; no picture worse. At 12 MP they read a
-/// third instead of a fifth of the photo's size: pointillist 1.17 → 1.18 s, 198 → 200 MB,
-/// pen-hatch 1.00 → 1.01 s, crosshatch 1.11 → 1.12 s (alternating pairs).
+/// hatchings their tone; a larger photo is box-reduced by whole factors to fit. Large enough
+/// that a photo of ordinary size is read at its own resolution (read at half its size, fine
+/// detail fades: a pier's planks, moss, a facade's slats), small enough that a 12 MP photo is
+/// read at a third of its size.
 pub const INK_DIAGONAL: usize = 2048;
 
 /// The photo in linear light at a reduced resolution, blurred.

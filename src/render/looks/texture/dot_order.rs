@@ -156,9 +156,8 @@ pub(crate) fn dots_at(
 
 /// The stipple period in output pixels from which dabs of a solid tone meet without the upper
 /// one's edge smoothed over the lower ([`dots_at`]): a pixel's step against a dab at least this
-/// wide does not show, and it saved 0.1 s of a 12 MP pointillist; smaller dabs (a photo of up
-/// to a megapixel) keep it, without which `tone.py`'s blurred PSNR fell by 0.5 dB over the 22
-/// held-out pictures.
+/// wide does not show, and skipping it saves time at 12 MP; smaller dabs (a photo of up to a
+/// megapixel) keep it, or their tone suffers.
 const SHARP_DABS_FROM_PX: f64 = 8.0;
 
 /// The dots (domain units in the cell's frame) of lattice cell `cell` of `site`'s cell,

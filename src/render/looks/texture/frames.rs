@@ -68,8 +68,8 @@ pub(crate) struct FlatHatching {
 /// neighbourhood bears it out only a little), rounded with their size onto the ladder
 /// ([`on_the_ladder`]).
 /// Cells `quiet` marks (no structure of their own, `quiet_cells.rs`) count as round, their
-/// axes kept (a round cell of the same area hatched brick faces and plain microscope fields in
-/// spacings twice as coarse: `tone.py` on 22 pictures, crosshatch SSIM 0.9635 against 0.9690).
+/// axes kept (a round cell of the same area would hatch a brick face or a plain in spacings
+/// twice as coarse).
 pub(crate) fn cell_frames(
     metrics: &[Tensor],
     neighbours: &[[u32; 2]],
@@ -121,20 +121,13 @@ pub(crate) fn cell_frames(
 /// its short axis, at most `flat.largest`, to the nearest whole octave (as the flat cells'
 /// rungs), so that directed cells beside
 /// each other that differ a little in direction or size hatch in one family of lines running on
-/// from cell to cell, and those near the flat angle in the flat areas' own lines. Each at its
-/// own angle and at a quarter of its own width, no two neighbours' lines met, a form was a
-/// patchwork of short lines and its widest cells (a cup's inner wall, a plank) were drawn in
-/// coarse ones. `tone.py`, seed 7, pen-hatch: 13 photos 33.55 → 34.96 dB, SSIM 0.954 → 0.976,
-/// edge recall 0.843 → 0.854 (a jetty's planks +5.5 dB); 22 held-out 36.48 → 37.41, 0.948 →
-/// 0.955, 0.923 → 0.930 (brick +4.2); crosshatch 33.82 → 34.73 and 36.65 → 37.11 dB; no
-/// picture below −0.1 dB. Steps of 10° and 22.5° gave 34.83 and 35.05 dB on the 13: 15° keeps
-/// a curve's lines from turning in visible kinks. A cell its neighbourhood bears out only a
-/// little (`weight` below 1: directed less than [`BLEND`] over `flat.below`) turns that share
-/// of the way to the flat angle first, so a form's weak edge meets a plain's lines gradually:
-/// cut at `below` alone, the weak cells on a cup's inner wall were patches of level lines in
-/// its −45° hatching. Pen-hatch 34.96 → 35.15, 37.41 → 37.84, 29.37 → 29.43 dB (13 / 22 / 12
-/// pictures), crosshatch 35.10 → 35.09, 37.38 → 37.60, 29.24 → 29.27 dB; a band of 0.15
-/// gave 35.06 and 37.63 (pen-hatch).
+/// from cell to cell, and those near the flat angle in the flat areas' own lines (each cell at
+/// its own angle and at a quarter of its own width, no two neighbours' lines would meet: a form
+/// would be a patchwork of short lines, its widest cells drawn in coarse ones). Steps of 15°
+/// keep a curve's lines from turning in visible kinks. A cell its neighbourhood bears out only
+/// a little (`weight` below 1: directed less than [`BLEND`] over `flat.below`) turns that share
+/// of the way to the flat angle first, so a form's weak edge meets a plain's lines gradually
+/// instead of in patches of level lines.
 fn on_the_ladder(f: Frame, flat: &FlatHatching, weight: f64) -> Frame {
     // The cell's turn from the flat angle, within a quarter turn either way (lines a half turn
     // apart are the same lines), `weight` of it taken, rounded to the ladder.
@@ -167,14 +160,10 @@ const ANGLE_STEP: f64 = std::f64::consts::PI / 12.0;
 /// counted [`SELF_WEIGHT`] times, and the cells it touches (`neighbours`, each pair once),
 /// then those means averaged the same way again (two rings of cells), and the result's length.
 /// Along an edge, a chain of cells that share a direction keeps much of its own; a cell long
-/// only by the grain of a plain (the fundus photo's orange, a brick's face), among round
-/// cells or cells turned every way, keeps little. Hatched in its own direction, such a cell was
-/// a patch of lines at a random angle in the plain's even hatching. Over one ring, patches of a
-/// few cells that a texture's stains or fur happened to turn one way (a concrete floor) still
-/// were patches; over two, `tone.py` on 22 pictures (seed 7): pen-hatch 36.57 → 36.80 dB,
-/// SSIM 0.9706 → 0.9727, edge recall 0.9228 → 0.9253; crosshatch 37.02 → 37.18 dB, 0.9731 →
-/// 0.9748, 0.9298 → 0.9307; no picture below −0.06 dB (coins +0.77, gravel +0.66, grass
-/// +0.62, the cat +0.53 dB).
+/// only by the grain of a plain (a brick's face), among round cells or cells turned every way,
+/// keeps little: hatched in its own direction, such a cell would be a patch of lines at a
+/// random angle in the plain's even hatching. Two rings, not one, so that a few cells a
+/// texture's stains or fur happen to turn one way (a concrete floor) do not make a patch.
 fn directed_anisotropy(frames: &[Frame], neighbours: &[[u32; 2]]) -> Vec<f32> {
     let own: Vec<[f64; 2]> = frames
         .iter()
@@ -218,14 +207,13 @@ const SELF_WEIGHT: f64 = 2.0;
 /// `None` for a cell with a direction). A flat area is the flat cells joined by touching
 /// neighbours whose sizes differ by less than [`SAME_AREA_OCTAVES`], or of which one is
 /// `quiet` (no structure of its own: its size is the metric's answer to a structure beside
-/// it, not the plain's; on their own rung, the cells round a mast in a plain sky were a
-/// finer, greyer aura round it; `tone.py`, 22 pictures, pen-hatch and crosshatch PSNR 36.39 →
-/// 36.56 and 36.73 → 37.00 dB, SSIM 0.9697 → 0.9708 and 0.9690 → 0.9733); all its cells take one
+/// it, not the plain's: on their own rung, the cells round a mast in a plain sky would be a
+/// finer, greyer aura round it); all its cells take one
 /// rung: that of the median of every flat cell when the area's own median size is within half
-/// an octave of it, else that of its own median. Rounding each cell on its own cut through the
-/// sizes of a flat area wherever they spread across a half octave (a grey wall whose cells are
-/// 5.5 to 6.5 px straddles 2^2.5 = 5.66 px; the moon's plains, whose cells span an octave):
-/// its cells, hatched at 4 and 8 px by turns, read as patches. The metric's sizes change
+/// an octave of it, else that of its own median. Rounding each cell on its own would cut
+/// through the sizes of a flat area wherever they spread across a half octave (a grey wall
+/// whose cells are 5.5 to 6.5 px straddles 2^2.5 = 5.66 px): its cells, hatched at 4 and 8 px
+/// by turns, would read as patches. The metric's sizes change
 /// gradually over an area and jump where a detail begins, so a galaxy's small cells in a black
 /// sky keep their own, finer rung; grain makes many small areas of about one size, which the
 /// shared median keeps on one rung.

@@ -42,12 +42,9 @@ pub(crate) fn lines(
 /// The widths (shares of the spacing) of the cross-hatching's layers for `darkness`, and how
 /// many are laid: the layers come one by one, each from a hairline, the first thickening to
 /// [`FIRST_LAYER`], then the second from nothing to its width at [`THIRD_FROM`], then the third,
-/// so that `1 − Π(1 − x_i)` is the darkness and no line jumps in width as the tone darkens.
-/// Layers of one equal width `1 − (1 − d)^(1/k)` (until stop 53) thinned every line where a
-/// layer came in (at 0.3 the first from 0.3 to 0.16 of the spacing): a smooth gradient, a
-/// cheek, showed a contour of changed texture at each of the two tones. `tone.py`, seed 7: 13
-/// photos 34.73 → 35.10 dB, SSIM 0.952 → 0.965, edge recall 0.822 → 0.834; 22 held-out
-/// 37.11 → 37.38 dB, 0.954 → 0.956, 0.925 → 0.928; no picture below −0.16 dB.
+/// so that `1 − Π(1 − x_i)` is the darkness and no line jumps in width as the tone darkens
+/// (layers of one equal width `1 − (1 − d)^(1/k)` would thin every line where a layer comes
+/// in, a contour of changed texture across a smooth gradient).
 #[must_use]
 pub(crate) fn cross_hatch_layers(darkness: f32) -> ([f32; 3], usize) {
     let second_most = 1.0 - (1.0 - THIRD_FROM) / (1.0 - FIRST_LAYER);

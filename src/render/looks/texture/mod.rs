@@ -183,12 +183,8 @@ pub(crate) fn texture_frames(scene: &Scene, p: &TextureParams) -> Vec<Frame> {
 }
 
 /// The widest spacing of flat hatching, as a share of the picture's diagonal: 4.5 px at a
-/// one-megapixel photo's 1 500, near its detail's, so a plain reads as its tone. At 0.006 a
-/// blurred leaf, an evening sky, a lake and a dim facade were zebra stripes hiding the forms;
-/// `tone.py`, seed 7, on 13 photos pen-hatch 32.26 → 33.55 dB, SSIM 0.906 → 0.954, recall
-/// 0.845 → 0.843 (the leaf 24.88 → 31.07 dB), crosshatch 32.46 → 33.82 dB, 0.890 → 0.935, 0.821
-/// → 0.819; on 22 held-out pictures 36.45 → 36.48 and 36.60 → 36.65 dB (a motorcycle's floor
-/// +0.6); a lake's reeds among finer lines −0.2 / −0.6 dB. At 0.004 about the same.
+/// one-megapixel photo's 1 500, near its detail's, so a plain reads as its tone (wider, a
+/// blurred leaf, an evening sky or a dim facade become zebra stripes hiding the forms).
 pub const FLAT_SPACING: f64 = 0.003;
 
 /// Every cell's ink coverage and ink colour. The tone curve sets the lightness the cell should

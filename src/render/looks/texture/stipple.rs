@@ -186,12 +186,9 @@ pub(crate) fn dab_colour(site: u32, centre: DVec2, under: Linear, darken: f32) -
 
 /// The differences (square roots of linear channels) between the photo at a point and at its
 /// dab's centre over which the dab gives way to the photo ([`Dab::colour_over`]). Overlapping
-/// round dabs (`dot_order.rs`) show about twice the area of the squares they replaced, and
-/// smeared more of the faint edges under them at the band of (0.06, 0.15) chosen for the
-/// squares: on the 22 held-out pictures (`tone.py`, seed 7) edge recall 0.913 (squares) →
-/// 0.896, blurred PSNR 41.6 → 40.1 dB; at (0.04, 0.10) 0.910 and 41.1 dB; here 0.916 and
-/// 41.5 dB (SSIM 0.9843 → 0.9835), the dabs as round by eye at 12 MP; at (0.02, 0.06) 0.920
-/// and 41.9 dB, the dabs of a face's soft shading melting into it.
+/// round dabs (`dot_order.rs`) show a large area each, so a wide band would smear the faint
+/// edges under them; a narrower one (0.02, 0.06) would melt the dabs of a face's soft shading
+/// into it.
 const DAB_EDGE: (f32, f32) = (0.03, 0.08);
 
 /// The pointillist dab of cell `site` centred at `centre` in render `render`
@@ -247,9 +244,8 @@ thread_local! {
 }
 
 /// How far a pointillist dab's lightness may move from the photo's, as a share of it (every
-/// channel alike): dabs that show at arm's length. On 20 pictures (`tone.py`, seed 7), against
-/// the ±20 % per channel before: at 0.1 edge recall 0.922 → 0.926, blurred SSIM 0.985 → 0.988,
-/// PSNR 41.7 → 42.6 dB; at 0.15 0.916, 0.980, 40.7 dB.
+/// channel alike, which keeps edges better than a shift per channel): dabs that show at arm's
+/// length.
 const DOT_LIGHT_JITTER: f32 = 0.1;
 
 /// How far each channel of a pointillist dab of a fully saturated colour may move from the
