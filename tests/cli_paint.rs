@@ -64,6 +64,63 @@ fn styles_lists_and_shows_the_presets() {
 }
 
 #[test]
+fn styles_keys_lists_what_the_look_reads_and_a_slip_gets_a_suggestion() {
+    let text = |args: &[&str]| {
+        let out = bin().args(args).assert().success();
+        String::from_utf8(out.get_output().stdout.clone()).unwrap()
+    };
+    let keys = text(&["styles", "keys", "pen-hatch"]);
+    let row = keys
+        .lines()
+        .find(|l| l.starts_with("look.lines_per_cell "))
+        .unwrap_or_else(|| panic!("{keys}"));
+    assert!(
+        row.contains(" 4 ") && row.contains("number in [0.1, 100]"),
+        "{row}"
+    );
+    assert!(
+        !keys.contains("look.relief"),
+        "a mosaic key in pen-hatch's list:\n{keys}"
+    );
+    // Every row is a key of the schema read by the look, with its doc line.
+    for line in keys.lines().skip(1) {
+        let path = line.split_whitespace().next().unwrap();
+        let key = anisopaint::style::schema::key_at(path).unwrap();
+        assert!(
+            key.readers.include("hatch") && line.ends_with(key.doc),
+            "{line}"
+        );
+    }
+    // Another look's keys through --set.
+    let fabric = text(&["styles", "keys", "--set", "look.kind=fabric"]);
+    assert!(fabric.contains("look.kernel_px") && !fabric.contains("look.border_width"));
+    // A slip: exit 2, one line, the nearest key of that look.
+    let run = bin()
+        .args(["paint", "samples/chelsea.png", "-s", "pen-hatch", "-o", "-"])
+        .args(["--set", "look.lines_per_cel=3"])
+        .assert()
+        .code(2);
+    let stderr = common::stderr_of(&run);
+    assert!(
+        stderr.contains("did you mean look.lines_per_cell?"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    // A key another look reads: which looks read it, and what this one reads.
+    let run = bin()
+        .args(["paint", "samples/chelsea.png", "-s", "mosaic", "-o", "-"])
+        .args(["--set", "look.lines_per_cell=3"])
+        .assert()
+        .code(2);
+    let stderr = common::stderr_of(&run);
+    assert!(
+        stderr.contains("look.lines_per_cell is not read by the mosaic look (only by hatch")
+            && stderr.contains("the mosaic look reads look.kind"),
+        "{stderr}"
+    );
+}
+
+#[test]
 fn paint_writes_beside_the_input_and_is_reproducible() {
     let dir = tempfile::tempdir().unwrap();
     let photo = dir.path().join("cat.png");

@@ -554,6 +554,8 @@ fn every_cell_look_keeps_edges_sharp_without_bands_and_lines_dark() {
                     "look.cells=voronoi",
                     "look.cell_tone=true",
                 ],
+                // The engraving's lines cross cells: it always takes the paper's.
+                "engraving" => &[COARSE, NO_OUTLINES],
                 _ => &[COARSE, NO_OUTLINES, "look.cells=voronoi"],
             };
             let (paper, _) = paint(&edge, style_name, control);

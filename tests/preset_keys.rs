@@ -2,57 +2,27 @@
 //! (negative, zero, NaN, infinities, tiny and huge): each run either fails with one clean
 //! error naming the key and what is allowed, or paints a whole picture — never a panic, and
 //! never a silent stand-in for a value outside the key's range. Values are set with `--set`'s
-//! own parser, so they are checked exactly as a user's are.
+//! own parser, so they are checked exactly as a user's are; the keys come from the schema.
 
 use anisopaint::input::photo_field;
 use anisopaint::paint::{paint_loaded, Extras, Recipe};
 use anisopaint::progress::Silent;
-use anisopaint::style;
+use anisopaint::style::{self, schema, schema::Value};
 
-/// Every numeric key, with whether it takes an integer.
-const KEYS: [(&str, bool); 40] = [
-    ("metric.min_size", false),
-    ("metric.max_size", false),
-    ("metric.max_anisotropy", false),
-    ("metric.gradation", false),
-    ("metric.smoothing", false),
-    ("metric.detail_quantile", false),
-    ("sampler.iterations", true),
-    ("sampler.seed", true),
-    ("look.colour_weight", false),
-    ("look.cell_iterations", true),
-    ("look.cell_reach", false),
-    ("look.cell_blur_px", false),
-    ("look.supersample", true),
-    ("look.border_width", false),
-    ("look.relief", false),
-    ("look.jitter", false),
-    ("look.lines_per_cell", false),
-    ("look.min_spacing_px", false),
-    ("look.ink_darken", false),
-    ("look.gamma", false),
-    ("look.fade_anisotropy", false),
-    ("look.glyph_scale", false),
-    ("look.outline_width", false),
-    ("look.kernel_px", false),
-    ("look.cross_weight", false),
-    ("look.thickness", false),
-    ("look.contrast", false),
-    ("look.line_spacing", false),
-    ("look.edge_break", false),
-    ("look.flat_angle", false),
-    ("look.tone", false),
-    ("look.ground", false),
-    ("look.refine", false),
-    ("look.outlines", false),
-    ("look.outline_scale", false),
-    ("look.highlights", false),
-    // Enumerated keys take numbers too when a user gets them wrong.
-    ("look.kind", false),
-    ("look.cells", false),
-    ("look.shape", false),
-    ("look.placement", false),
-];
+/// Every key that takes a number, with whether it takes a whole one, and the keys that take
+/// a name or a shape (users give them numbers by mistake too): from the schema, so a new key
+/// is checked here without a line of this file.
+fn numeric_keys() -> Vec<(&'static schema::Key, bool)> {
+    schema::KEYS
+        .iter()
+        .filter_map(|k| match k.value {
+            Value::Number { .. } | Value::Positive { .. } => Some((k, false)),
+            Value::Integer { .. } => Some((k, true)),
+            Value::Choice(_) | Value::Shape => Some((k, false)),
+            _ => None,
+        })
+        .collect()
+}
 
 const FLOATS: [&str; 9] = [
     "-5", "0", "nan", "inf", "-inf", "1e-9", "1e9", "1e30", "0.5",
@@ -103,8 +73,13 @@ fn run(preset_name: &str, set: &str) -> Outcome {
 fn every_numeric_key_of_every_preset_is_checked() {
     let mut painted = 0;
     let mut refused = 0;
+    let keys = numeric_keys();
+    assert!(keys.len() > 35, "{} keys", keys.len());
     for (preset, _) in style::BUILT_IN {
-        for (key, integer) in KEYS {
+        let kind = style::load(preset).unwrap().file.look.kind.unwrap();
+        // The keys this preset's look reads (any other is refused before its value is read).
+        for &(key, integer) in keys.iter().filter(|(k, _)| k.readers.include(&kind)) {
+            let key = key.path;
             let values: &[&str] = if integer { &INTEGERS } else { &FLOATS };
             for value in values {
                 let set = format!("{key}={value}");

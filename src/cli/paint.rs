@@ -10,6 +10,7 @@ use crate::error::{Error, Result};
 use crate::input::Input;
 use crate::paint::{paint_observed, save_painting, Extras, PaintRecord, Recipe};
 use crate::progress::{timed, Stage};
+use crate::render::Look;
 use clap::{Args, Subcommand};
 use image::DynamicImage;
 use std::path::PathBuf;
@@ -128,6 +129,15 @@ pub(super) enum StylesAction {
         #[arg(long = "set", value_name = "KEY=VALUE", requires = "full")]
         sets: Vec<String>,
     },
+    /// Every key a preset's look reads: what it takes, the value it paints with, what it does.
+    Keys {
+        /// A built-in preset name or a .toml file [default: mosaic].
+        name: Option<String>,
+        /// Override keys first, as `paint --set` does (repeatable; `look.kind=hatch` shows
+        /// another look's keys).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
 }
 
 pub(super) fn run_styles(args: &StylesArgs) -> Result<()> {
@@ -144,6 +154,12 @@ pub(super) fn run_styles(args: &StylesArgs) -> Result<()> {
             crate::style::apply_sets(&mut preset, sets)?;
             print!("{}", crate::style::full_toml(&preset)?);
         }
+        Some(StylesAction::Keys { name, sets }) => {
+            let name = name.as_deref().unwrap_or(crate::style::DEFAULT_STYLE);
+            let mut preset = load(name)?;
+            crate::style::apply_sets(&mut preset, sets)?;
+            print!("{}", keys_table(&preset)?);
+        }
         Some(StylesAction::Show { name, .. }) => {
             let text = built_in(name).ok_or_else(|| {
                 let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
@@ -156,6 +172,32 @@ pub(super) fn run_styles(args: &StylesArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The keys `preset`'s look reads as aligned text: key, what it takes, value, what it does.
+fn keys_table(preset: &crate::style::Preset) -> Result<String> {
+    let rows = crate::style::key_values(preset)?;
+    let kind = preset
+        .file
+        .look
+        .kind
+        .as_deref()
+        .unwrap_or(Look::DEFAULT_NAME);
+    let mut out = format!(
+        "# {} ({kind}): the keys its look reads, the value it paints with, what each takes\n",
+        preset.name
+    );
+    let width = rows.iter().map(|(k, _)| k.path.len()).max().unwrap_or(0);
+    for (key, value) in rows {
+        let value = value.unwrap_or_else(|| "(unset)".into());
+        out.push_str(&format!(
+            "{:width$}  {value:<10}  {}: {}\n",
+            key.path,
+            key.value.describe(),
+            key.doc,
+        ));
+    }
+    Ok(out)
 }
 
 pub(super) fn run_paint(args: &PaintArgs) -> Result<()> {

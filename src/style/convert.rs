@@ -1,10 +1,11 @@
 //! A preset's keys converted into the library's parameters: [`MetricParams`] (photo → metric,
 //! paper sections 3-4), [`SamplerParams`] (section 5) and the [`Look`] with its parameters
-//! (sections 6-7). Keys a look does not use are ignored; every numeric key is checked against
-//! the range its look accepts, and colours, kinds, shapes and placements are parsed, with
-//! errors naming the key, the value and what is allowed.
+//! (sections 6-7). Every numeric key is checked against the range [`schema`] declares for it,
+//! and colours, kinds, shapes and placements are parsed, with errors naming the key, the value
+//! and what is allowed.
 
 use super::preset::{Preset, BUILT_IN_TEXTURES};
+use super::schema;
 use crate::error::{Error, Result};
 use crate::field::MetricParams;
 use crate::render::cells::{CellKind, CellParams};
@@ -67,33 +68,41 @@ fn named<T>(
         .ok_or_else(|| Error::param(key, format!("{name}: expected one of {}", names.join(", "))))
 }
 
-/// `value`, or `default` when the preset leaves it out, checked against `[lo, hi]`: NaN and
-/// values outside are errors naming the key, the value and the range (a preset's numbers are
-/// never clamped in silence).
-fn ranged<T: PartialOrd + std::fmt::Display + Copy>(
-    key: &str,
-    value: Option<T>,
-    default: T,
-    (lo, hi): (T, T),
-) -> Result<T> {
+/// `value`, or `default` when the preset leaves it out, checked against the range the schema
+/// declares for `key` ([`schema::range`]): NaN and values outside are errors naming the key,
+/// the value and the range (a preset's numbers are never clamped in silence).
+fn ranged<T: Number>(key: &str, value: Option<T>, default: T) -> Result<T> {
     let v = value.unwrap_or(default);
-    if lo <= v && v <= hi {
+    let (lo, hi) = schema::range(key);
+    if lo <= v.as_f64() && v.as_f64() <= hi {
         Ok(v)
     } else {
         Err(Error::param(key, format!("{v} must be in [{lo}, {hi}]")))
     }
 }
 
-/// Most relaxation iterations a preset may ask for: the paper never needed more than 1000, and
-/// a typo of a few more zeros should be an error, not a run of hours.
-pub const MAX_ITERATIONS: usize = 10_000;
+/// The numbers preset keys hold.
+trait Number: Copy + std::fmt::Display {
+    fn as_f64(self) -> f64;
+}
 
-/// The range of a width in output pixels (borders, outlines).
-const WIDTH_PX: (f32, f32) = (0.0, 50.0);
-/// The range of a share, a weight or an amount of 0 to 1.
-const UNIT: (f32, f32) = (0.0, 1.0);
-/// Range of angles in degrees.
-const ANGLE: (f32, f32) = (-360.0, 360.0);
+impl Number for f32 {
+    fn as_f64(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+impl Number for f64 {
+    fn as_f64(self) -> f64 {
+        self
+    }
+}
+
+impl Number for usize {
+    fn as_f64(self) -> f64 {
+        self as f64
+    }
+}
 
 impl Preset {
     /// The metric parameters: defaults with the preset's keys.
@@ -113,7 +122,7 @@ impl Preset {
         Ok(p)
     }
 
-    /// The sampler parameters: `sampler.iterations` 0 to [`MAX_ITERATIONS`], any seed,
+    /// The sampler parameters: `sampler.iterations` in the schema's range, any seed,
     /// `sampler.seeding` "auto" (the default), "lattice" or "darts".
     pub fn sampler(&self) -> Result<SamplerParams> {
         let s = &self.file.sampler;
@@ -123,12 +132,7 @@ impl Preset {
             Some(name) => named("sampler.seeding", name, Seeding::named, &Seeding::NAMES)?,
         };
         Ok(SamplerParams {
-            iterations: ranged(
-                "sampler.iterations",
-                s.iterations,
-                d.iterations,
-                (0, MAX_ITERATIONS),
-            )?,
+            iterations: ranged("sampler.iterations", s.iterations, d.iterations)?,
             seed: s.seed.unwrap_or(d.seed),
             seeding,
             ..d
@@ -145,26 +149,11 @@ impl Preset {
             None => d.kind,
             Some(name) => named("look.cells", name, CellKind::named, &CellKind::NAMES)?,
         };
-        let colour_weight = ranged(
-            "look.colour_weight",
-            l.colour_weight,
-            d.colour_weight,
-            (0.0, 1e6),
-        )?;
-        let iterations = ranged(
-            "look.cell_iterations",
-            l.cell_iterations,
-            d.iterations,
-            (0, 20),
-        )?;
+        let colour_weight = ranged("look.colour_weight", l.colour_weight, d.colour_weight)?;
+        let iterations = ranged("look.cell_iterations", l.cell_iterations, d.iterations)?;
         // inf: no limit.
-        let reach = ranged(
-            "look.cell_reach",
-            l.cell_reach,
-            d.reach,
-            (0.0, f64::INFINITY),
-        )?;
-        let blur_px = ranged("look.cell_blur_px", l.cell_blur_px, d.blur_px, (0.0, 20.0))?;
+        let reach = ranged("look.cell_reach", l.cell_reach, d.reach)?;
+        let blur_px = ranged("look.cell_blur_px", l.cell_blur_px, d.blur_px)?;
         Ok(CellParams {
             kind,
             colour_weight,
@@ -192,16 +181,16 @@ impl Preset {
             })?),
         };
         Ok(OutlineParams {
-            strength: ranged("look.outlines", l.outlines, d.strength, UNIT)?,
-            scale: ranged("look.outline_scale", l.outline_scale, d.scale, (0.25, 4.0))?,
+            strength: ranged("look.outlines", l.outlines, d.strength)?,
+            scale: ranged("look.outline_scale", l.outline_scale, d.scale)?,
             ink,
-            highlights: ranged("look.highlights", l.highlights, d.highlights, UNIT)?,
+            highlights: ranged("look.highlights", l.highlights, d.highlights)?,
         })
     }
 
     /// Raster points per pixel at cell borders (default 2, 1 to 4).
     pub fn supersample(&self) -> Result<usize> {
-        ranged("look.supersample", self.file.look.supersample, 2, (1, 4))
+        ranged("look.supersample", self.file.look.supersample, 2)
     }
 
     /// The look with the preset's parameters.
@@ -209,15 +198,6 @@ impl Preset {
         let l = &self.file.look;
         let kind = l.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
         let mut look = named("look.kind", kind, Look::named, &Look::NAMES)?;
-        // Keys of the other kinds are ignored but checked all the same, so a bad value is
-        // an error now rather than when the preset switches kind.
-        for other in ["mosaic", "hatch", "glyphs", "fabric", "engraving"] {
-            match Look::named(other) {
-                Some(ref o) if std::mem::discriminant(o) == std::mem::discriminant(&look) => {}
-                Some(mut other) => self.configure(&mut other)?,
-                None => {}
-            }
-        }
         self.configure(&mut look)?;
         Ok(look)
     }
@@ -235,23 +215,13 @@ impl Preset {
 
     /// `look.border_width` (the mosaic's leading, a texture's cell borders), or `default`.
     fn border_width(&self, default: f32) -> Result<f32> {
-        ranged(
-            "look.border_width",
-            self.file.look.border_width,
-            default,
-            WIDTH_PX,
-        )
+        ranged("look.border_width", self.file.look.border_width, default)
     }
 
     /// `look.min_spacing_px` (hatch lines, stipple rows, engraving lines), or `default`.
     fn min_spacing_px(&self, default: f32) -> Result<f32> {
         let l = &self.file.look;
-        ranged(
-            "look.min_spacing_px",
-            l.min_spacing_px,
-            default,
-            (0.5, 200.0),
-        )
+        ranged("look.min_spacing_px", l.min_spacing_px, default)
     }
 
     /// `look.flat_angle` (hatchings' lines and brush strokes where the field has no
@@ -259,14 +229,14 @@ impl Preset {
     /// value always.)
     fn flat_angle(&self, default: Option<f32>) -> Result<Option<f32>> {
         match self.file.look.flat_angle {
-            Some(a) => Ok(Some(ranged("look.flat_angle", Some(a), a, ANGLE)?)),
+            Some(a) => Ok(Some(ranged("look.flat_angle", Some(a), a)?)),
             None => Ok(default),
         }
     }
 
     /// `look.gamma`, the ink looks' tone curve, or `default`.
     fn gamma(&self, default: f32) -> Result<f32> {
-        ranged("look.gamma", self.file.look.gamma, default, (0.05, 20.0))
+        ranged("look.gamma", self.file.look.gamma, default)
     }
 
     fn mosaic(&self, p: &mut MosaicParams) -> Result<()> {
@@ -275,34 +245,24 @@ impl Preset {
         if let Some(c) = &l.border_colour {
             p.border_colour = colour("look.border_colour", c)?;
         }
-        p.relief = ranged("look.relief", l.relief, p.relief, UNIT)?;
-        p.jitter = ranged("look.jitter", l.jitter, p.jitter, UNIT)?;
+        p.relief = ranged("look.relief", l.relief, p.relief)?;
+        p.jitter = ranged("look.jitter", l.jitter, p.jitter)?;
         Ok(())
     }
 
     fn texture(&self, p: &mut TextureParams) -> Result<()> {
         let l = &self.file.look;
-        p.lines_per_cell = ranged(
-            "look.lines_per_cell",
-            l.lines_per_cell,
-            p.lines_per_cell,
-            (0.1, 100.0),
-        )?;
+        p.lines_per_cell = ranged("look.lines_per_cell", l.lines_per_cell, p.lines_per_cell)?;
         p.min_spacing_px = self.min_spacing_px(p.min_spacing_px)?;
         p.gamma = self.gamma(p.gamma)?;
-        p.fade_anisotropy = ranged(
-            "look.fade_anisotropy",
-            l.fade_anisotropy,
-            p.fade_anisotropy,
-            (0.0, 100.0),
-        )?;
+        p.fade_anisotropy = ranged("look.fade_anisotropy", l.fade_anisotropy, p.fade_anisotropy)?;
         p.border_width = self.border_width(p.border_width)?;
         p.flat_angle = self.flat_angle(p.flat_angle)?;
         p.cell_tone = l.cell_tone.unwrap_or(p.cell_tone);
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
         }
-        let darken = ranged("look.ink_darken", l.ink_darken, 0.3, UNIT)?;
+        let darken = ranged("look.ink_darken", l.ink_darken, 0.3)?;
         if let Some(ink) = &l.ink {
             p.ink = match ink.as_str() {
                 "black" => Ink::Fixed(BLACK_INK),
@@ -353,13 +313,8 @@ impl Preset {
 
     fn glyphs(&self, p: &mut GlyphParams) -> Result<()> {
         let l = &self.file.look;
-        p.scale = ranged("look.glyph_scale", l.glyph_scale, p.scale, (0.05, 4.0))?;
-        p.outline_width = ranged(
-            "look.outline_width",
-            l.outline_width,
-            p.outline_width,
-            WIDTH_PX,
-        )?;
+        p.scale = ranged("look.glyph_scale", l.glyph_scale, p.scale)?;
+        p.outline_width = ranged("look.outline_width", l.outline_width, p.outline_width)?;
         if let Some(c) = &l.background {
             p.background = colour("look.background", c)?;
         }
@@ -383,8 +338,8 @@ impl Preset {
             p.shape = glyph_shape(shape)?;
         }
         p.underpaint = l.underpaint.unwrap_or(p.underpaint);
-        p.ground = ranged("look.ground", l.ground, p.ground, UNIT)?;
-        p.refine = ranged("look.refine", l.refine, p.refine, UNIT)?;
+        p.ground = ranged("look.ground", l.ground, p.ground)?;
+        p.refine = ranged("look.refine", l.refine, p.refine)?;
         p.flat_angle = self.flat_angle(p.flat_angle)?;
         p.seed = self.sampler()?.seed;
         Ok(())
@@ -392,27 +347,18 @@ impl Preset {
 
     fn engraving(&self, p: &mut EngravingParams) -> Result<()> {
         let l = &self.file.look;
-        p.line_spacing = ranged(
-            "look.line_spacing",
-            l.line_spacing,
-            p.line_spacing,
-            (0.0005, 0.2),
-        )?;
+        p.line_spacing = ranged("look.line_spacing", l.line_spacing, p.line_spacing)?;
         p.min_spacing_px = self.min_spacing_px(p.min_spacing_px)?;
         p.gamma = self.gamma(p.gamma)?;
-        p.edge_break = ranged("look.edge_break", l.edge_break, p.edge_break, (0.0, 10.0))?;
-        p.flat_angle = ranged("look.flat_angle", l.flat_angle, p.flat_angle, ANGLE)?;
-        p.tone = ranged("look.tone", l.tone, p.tone, UNIT)?;
+        p.edge_break = ranged("look.edge_break", l.edge_break, p.edge_break)?;
+        p.flat_angle = ranged("look.flat_angle", l.flat_angle, p.flat_angle)?;
+        p.tone = ranged("look.tone", l.tone, p.tone)?;
         if let Some(c) = &l.paper {
             p.paper = colour("look.paper", c)?;
         }
-        // "cell" and "pixel" are the textures' inks: checked there, refused only when the
-        // engraving itself is asked for.
-        let active = l.kind.as_deref() == Some("engraving");
         match l.ink.as_deref() {
             None => {}
             Some("black") => p.ink = BLACK_INK,
-            Some("cell" | "pixel") if !active => {}
             Some(other) => {
                 p.ink = colour("look.ink", other).map_err(|_| {
                     Error::param(
@@ -427,11 +373,11 @@ impl Preset {
 
     fn fabric(&self, p: &mut FabricParams) -> Result<()> {
         let l = &self.file.look;
-        p.kernel_px = ranged("look.kernel_px", l.kernel_px, p.kernel_px, (1.0, 100.0))?;
-        p.cross_weight = ranged("look.cross_weight", l.cross_weight, p.cross_weight, UNIT)?;
-        p.thickness = ranged("look.thickness", l.thickness, p.thickness, (0.01, 2.0))?;
-        p.contrast = ranged("look.contrast", l.contrast, p.contrast, UNIT)?;
-        p.flat_angle = ranged("look.flat_angle", l.flat_angle, p.flat_angle, ANGLE)?;
+        p.kernel_px = ranged("look.kernel_px", l.kernel_px, p.kernel_px)?;
+        p.cross_weight = ranged("look.cross_weight", l.cross_weight, p.cross_weight)?;
+        p.thickness = ranged("look.thickness", l.thickness, p.thickness)?;
+        p.contrast = ranged("look.contrast", l.contrast, p.contrast)?;
+        p.flat_angle = ranged("look.flat_angle", l.flat_angle, p.flat_angle)?;
         Ok(())
     }
 }

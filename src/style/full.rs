@@ -5,6 +5,7 @@
 //! is printed is what paints, and printing it again after loading it changes nothing.
 
 use super::preset::{LookSection, MetricSection, Preset, PresetFile, SamplerSection};
+use super::schema::{self, Key};
 use crate::error::{Error, Result};
 use crate::render::lines::outline_ink::OutlineInk;
 use crate::render::looks::glyphs::{Placement, Shape};
@@ -125,6 +126,16 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.flat_angle = Some(p.flat_angle);
         }
     }
+    // Only the keys this look reads (the cells' keys are written above for every look).
+    let kind = look.kind.clone().unwrap_or_default();
+    let mut table = toml::Table::try_from(&look)
+        .map_err(|e| Error::param("style", format!("cannot write it as TOML: {e}")))?;
+    table.retain(|name, _| {
+        schema::key_at(&format!("look.{name}")).is_some_and(|k| k.readers.include(&kind))
+    });
+    let look: LookSection = table
+        .try_into()
+        .map_err(|e| Error::param("style", format!("cannot write it as TOML: {e}")))?;
     Ok(PresetFile {
         description: preset.file.description.clone(),
         extends: None,
@@ -145,6 +156,31 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
     })
 }
 
+/// Every key `preset`'s look reads ([`schema::read_by`]), in the schema's order, with the
+/// value it paints with as TOML would write it (`None` where the key has no value: a texture
+/// not given, a flat angle left to the field).
+pub fn key_values(preset: &Preset) -> Result<Vec<(&'static Key, Option<String>)>> {
+    let file = full(preset)?;
+    let table = toml::Table::try_from(&file)
+        .map_err(|e| Error::param("style", format!("cannot write it as TOML: {e}")))?;
+    let kind = file.look.kind.clone().unwrap_or_default();
+    Ok(schema::KEYS
+        .iter()
+        .filter(|k| k.readers.include(&kind))
+        .map(|k| {
+            let value = table
+                .get(k.section())
+                .and_then(|s| s.get(k.name()))
+                .map(|v| match v {
+                    // An `f32` key's value as the shortest text that reads back as it.
+                    toml::Value::Float(f) if f64::from(*f as f32) == *f => (*f as f32).to_string(),
+                    v => v.to_string(),
+                });
+            (k, value)
+        })
+        .collect())
+}
+
 /// `#rrggbb`.
 fn hex([r, g, b]: [u8; 3]) -> String {
     format!("#{r:02x}{g:02x}{b:02x}")
@@ -154,6 +190,32 @@ fn hex([r, g, b]: [u8; 3]) -> String {
 mod tests {
     use super::*;
     use crate::style::{load, parse, BUILT_IN};
+
+    /// For every look, the keys written out in full are the keys the schema says it reads
+    /// (but those without a value where nothing sets them: a texture, a flat angle, an ink's
+    /// darkening).
+    #[test]
+    fn the_full_preset_writes_the_keys_the_schema_names() {
+        for kind in Look::NAMES {
+            let mut preset = Preset::defaults();
+            preset.file.look.cells = None;
+            crate::style::apply_sets(&mut preset, &[format!("look.kind={kind}")]).unwrap();
+            for (key, value) in key_values(&preset).unwrap() {
+                let optional = matches!(key.name(), "texture" | "flat_angle" | "ink_darken");
+                assert!(
+                    value.is_some() || optional,
+                    "{kind}: {} has no value",
+                    key.path
+                );
+            }
+            let file = full(&preset).unwrap();
+            let written = toml::Table::try_from(&file.look).unwrap();
+            for name in written.keys() {
+                let key = schema::key_at(&format!("look.{name}")).unwrap();
+                assert!(key.readers.include(kind), "{kind} writes look.{name}");
+            }
+        }
+    }
 
     /// Written out in full and read back, every built-in preset paints with the same
     /// parameters, and writing it again gives the same text.

@@ -11,9 +11,10 @@
 pub mod convert;
 pub mod full;
 pub mod preset;
+pub mod schema;
 pub mod sheet;
 
-pub use full::full_toml;
+pub use full::{full_toml, key_values};
 pub use preset::{
     apply_sets, built_in, load, merge, parse, LookSection, MetricSection, Preset, PresetFile,
     SamplerSection, BUILT_IN, BUILT_IN_TEXTURES, DEFAULT_STYLE,
@@ -91,7 +92,17 @@ mod tests {
         let e = parse("[look]\nkind = \"mosaic\"\nborder_widht = 2\n", "x.toml").unwrap_err();
         let msg = e.to_string();
         assert!(msg.contains("x.toml:3:1"), "{msg}");
-        assert!(msg.contains("border_width"), "lists the valid keys: {msg}");
+        assert!(msg.contains("did you mean look.border_width?"), "{msg}");
+        // A key of another look, in a file: the looks that read it and the nearest key.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("mine.toml");
+        std::fs::write(&path, "[look]\nkind = \"mosaic\"\nlines_per_cell = 5\n").unwrap();
+        let msg = load(path.to_str().unwrap()).unwrap_err().to_string();
+        assert!(
+            msg.contains("look.lines_per_cell is not read by the mosaic look"),
+            "{msg}"
+        );
+        assert!(msg.contains("the mosaic look reads look.kind"), "{msg}");
         let e = parse("[metric]\nmax_anisotropy = \"lots\"\n", "y.toml").unwrap_err();
         assert!(e.to_string().contains("y.toml:2:18"), "{e}");
     }
@@ -107,10 +118,21 @@ mod tests {
         assert_eq!(p.file.look.border_width, Some(4.0));
         apply_sets(
             &mut p,
-            &["metric.max_anisotropy=6".into(), "look.ink=pixel".into()],
+            &["metric.max_anisotropy=6".into(), "look.relief=0.5".into()],
         )
         .unwrap();
         assert_eq!(p.metric().unwrap().max_anisotropy, 6.0);
+        assert_eq!(p.file.look.relief, Some(0.5));
+        // A key another look reads is an error naming the looks that read it.
+        let e = apply_sets(&mut p, &["look.ink=pixel".into()]).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("not read by the mosaic look (only by hatch"),
+            "{e}"
+        );
+        // Switching look leaves the old look's keys behind.
+        apply_sets(&mut p, &["look.kind=hatch".into(), "look.ink=pixel".into()]).unwrap();
+        assert_eq!(p.file.look.relief, None);
         assert_eq!(p.file.look.ink.as_deref(), Some("pixel"));
         assert!(apply_sets(&mut p, &["look.nope=1".into()]).is_err());
         assert!(apply_sets(&mut p, &["nodot=1".into()]).is_err());

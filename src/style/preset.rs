@@ -1,10 +1,13 @@
 //! Presets as files: the TOML sections `[metric]`, `[sampler]` and `[look]` of optional keys,
 //! the built-in presets and textures compiled in from `styles/`, loading down an `extends`
 //! chain, and `--set key.path=value` overrides checked like preset lines. Every section
-//! accepts only its own keys (serde's `deny_unknown_fields`): an unknown key or a wrong type
-//! is an error naming the file, line and column and, for an unknown key, the valid ones.
+//! accepts only its own keys (serde's `deny_unknown_fields`), and `[look]` only those its look
+//! reads ([`schema`]): an unknown key or a wrong type is an error naming the file, line and
+//! column, and for a key the look does not read, the nearest one it does.
 
+use super::schema;
 use crate::error::{Error, Result};
+use crate::render::Look;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -78,8 +81,8 @@ pub struct SamplerSection {
     pub seeding: Option<String>,
 }
 
-/// `[look]`: `kind` picks the renderer; the other keys are its parameters (a key another
-/// kind uses is accepted and ignored, so a preset can switch kind with one key).
+/// `[look]`: `kind` picks the renderer; the other keys are its parameters, each read by the
+/// looks [`schema::KEYS`] names (a key the look does not read is an error).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
@@ -179,7 +182,8 @@ impl Preset {
     }
 }
 
-/// Parses preset text; errors name `origin`, the line and the column.
+/// Parses preset text; errors name `origin`, the line and the column, and for an unknown key
+/// the nearest key the preset's look reads.
 pub fn parse(text: &str, origin: &str) -> Result<PresetFile> {
     toml::from_str(text).map_err(|e| {
         let (line, column) = e
@@ -188,9 +192,93 @@ pub fn parse(text: &str, origin: &str) -> Result<PresetFile> {
             .unwrap_or((1, 1));
         Error::param(
             format!("style {origin}:{line}:{column}"),
-            e.message().replace('\n', " "),
+            explained(&e, text),
         )
     })
+}
+
+/// A TOML error's message on one line; for an unknown key, a "did you mean" naming the
+/// nearest key of its section that the look of `text` reads, instead of every key there is.
+fn explained(e: &toml::de::Error, text: &str) -> String {
+    let message = e.message().replace('\n', " ");
+    let Some(name) = message
+        .strip_prefix("unknown field `")
+        .and_then(|rest| rest.split('`').next())
+    else {
+        return message;
+    };
+    // The section and the look kind, read loosely (the text did not deserialize).
+    let before = &text[..e.span().map_or(0, |s| s.start.min(text.len()))];
+    let section = before
+        .lines()
+        .rev()
+        .find_map(|l| l.trim().strip_prefix('[')?.strip_suffix(']'))
+        .unwrap_or("");
+    let kind = toml::from_str::<toml::Table>(text)
+        .ok()
+        .and_then(|t| t.get("look")?.get("kind")?.as_str().map(str::to_string))
+        .unwrap_or_else(|| Look::DEFAULT_NAME.to_string());
+    unknown_key(section, name, &kind)
+}
+
+/// The message for `section.name`, which the look `kind` does not read: which looks do read
+/// it (for a key of another look), and the nearest key `kind` reads, or all of them.
+fn unknown_key(section: &str, name: &str, kind: &str) -> String {
+    if section.is_empty() {
+        return format!(
+            "unknown key {name}: a preset has description, extends and the sections \
+             [metric], [sampler] and [look]"
+        );
+    }
+    let mut message = match schema::key_at(&format!("{section}.{name}")) {
+        Some(key) => {
+            let readers: Vec<&str> = Look::NAMES
+                .into_iter()
+                .filter(|k| key.readers.include(k))
+                .collect();
+            format!(
+                "{section}.{name} is not read by the {kind} look (only by {})",
+                readers.join(", ")
+            )
+        }
+        None => format!("unknown key {section}.{name}"),
+    };
+    match schema::nearest(kind, section, name) {
+        Some(k) => message.push_str(&format!("; did you mean {}?", k.path)),
+        None => {
+            let keys: Vec<&str> = schema::read_by(kind, section).map(|k| k.name()).collect();
+            message.push_str(&format!(
+                "; the {kind} look reads {section}.{}",
+                keys.join(", ")
+            ));
+        }
+    }
+    message
+}
+
+/// Fails when `file` sets a look key its look does not read, naming the nearest one it does.
+fn check_look_keys(file: &PresetFile, origin: &str) -> Result<()> {
+    let kind = file.look.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
+    if !Look::NAMES.contains(&kind) {
+        return Ok(()); // the conversion names the bad kind and the good ones
+    }
+    for name in set_keys(&file.look) {
+        let read = schema::key_at(&format!("look.{name}")).is_some_and(|k| k.readers.include(kind));
+        if !read {
+            return Err(Error::param(
+                format!("style {origin}"),
+                unknown_key("look", &name, kind),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The names of the keys a section sets.
+fn set_keys<T: Serialize>(section: &T) -> Vec<String> {
+    toml::Table::try_from(section)
+        .map(|t| t.keys().cloned().collect())
+        .unwrap_or_default()
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -207,9 +295,13 @@ pub fn built_in(name: &str) -> Option<&'static str> {
     BUILT_IN.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
 }
 
-/// Loads `style` (a built-in name, or a path to a `.toml` file), following `extends`.
+/// Loads `style` (a built-in name, or a path to a `.toml` file), following `extends`. A look key
+/// the preset's look does not read is an error (keys inherited from a preset of another look
+/// are dropped where the kind changes: see [`merge`]).
 pub fn load(style: &str) -> Result<Preset> {
-    load_chain(style, 0)
+    let preset = load_chain(style, 0)?;
+    check_look_keys(&preset.file, style)?;
+    Ok(preset)
 }
 
 fn load_chain(style: &str, depth: usize) -> Result<Preset> {
@@ -241,7 +333,7 @@ fn load_chain(style: &str, depth: usize) -> Result<Preset> {
     let file = match &file.extends {
         Some(base) => {
             let base = load_chain(base, depth + 1)?;
-            merge(base.file, file)
+            merge(base.file, file)?
         }
         None => file,
     };
@@ -274,76 +366,53 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
         // The line and column `parse` would give point into this one-line text, not
         // anything the user wrote: the override itself is named instead.
         let over: PresetFile = toml::from_str(&text).map_err(|e| {
-            Error::param(format!("style --set {set}"), e.message().replace('\n', " "))
+            let kind = preset
+                .file
+                .look
+                .kind
+                .as_deref()
+                .unwrap_or(Look::DEFAULT_NAME);
+            let message = match e.message().strip_prefix("unknown field `") {
+                Some(_) => unknown_key(section, field, kind),
+                None => e.message().replace('\n', " "),
+            };
+            Error::param(format!("style --set {set}"), message)
         })?;
-        preset.file = merge(preset.file.clone(), over);
+        preset.file = merge(preset.file.clone(), over)?;
+        check_look_keys(&preset.file, &format!("--set {set}"))?;
     }
     Ok(())
 }
 
-/// `over`'s keys over `base`'s.
-#[must_use]
-pub fn merge(base: PresetFile, over: PresetFile) -> PresetFile {
-    let m = (base.metric, over.metric);
-    let s = (base.sampler, over.sampler);
-    let (b, o) = (base.look, over.look);
-    PresetFile {
-        description: over.description.or(base.description),
-        extends: None,
-        metric: MetricSection {
-            min_size: m.1.min_size.or(m.0.min_size),
-            max_size: m.1.max_size.or(m.0.max_size),
-            max_anisotropy: m.1.max_anisotropy.or(m.0.max_anisotropy),
-            gradation: m.1.gradation.or(m.0.gradation),
-            smoothing: m.1.smoothing.or(m.0.smoothing),
-            detail_quantile: m.1.detail_quantile.or(m.0.detail_quantile),
-        },
-        sampler: SamplerSection {
-            iterations: s.1.iterations.or(s.0.iterations),
-            seed: s.1.seed.or(s.0.seed),
-            seeding: s.1.seeding.or(s.0.seeding),
-        },
-        look: LookSection {
-            kind: o.kind.or(b.kind),
-            cells: o.cells.or(b.cells),
-            colour_weight: o.colour_weight.or(b.colour_weight),
-            cell_iterations: o.cell_iterations.or(b.cell_iterations),
-            cell_reach: o.cell_reach.or(b.cell_reach),
-            cell_blur_px: o.cell_blur_px.or(b.cell_blur_px),
-            supersample: o.supersample.or(b.supersample),
-            border_width: o.border_width.or(b.border_width),
-            border_colour: o.border_colour.or(b.border_colour),
-            relief: o.relief.or(b.relief),
-            jitter: o.jitter.or(b.jitter),
-            lines_per_cell: o.lines_per_cell.or(b.lines_per_cell),
-            min_spacing_px: o.min_spacing_px.or(b.min_spacing_px),
-            ink: o.ink.or(b.ink),
-            ink_darken: o.ink_darken.or(b.ink_darken),
-            paper: o.paper.or(b.paper),
-            gamma: o.gamma.or(b.gamma),
-            fade_anisotropy: o.fade_anisotropy.or(b.fade_anisotropy),
-            texture: o.texture.or(b.texture),
-            shape: o.shape.or(b.shape),
-            underpaint: o.underpaint.or(b.underpaint),
-            ground: o.ground.or(b.ground),
-            refine: o.refine.or(b.refine),
-            placement: o.placement.or(b.placement),
-            glyph_scale: o.glyph_scale.or(b.glyph_scale),
-            outline_width: o.outline_width.or(b.outline_width),
-            background: o.background.or(b.background),
-            kernel_px: o.kernel_px.or(b.kernel_px),
-            cross_weight: o.cross_weight.or(b.cross_weight),
-            thickness: o.thickness.or(b.thickness),
-            contrast: o.contrast.or(b.contrast),
-            line_spacing: o.line_spacing.or(b.line_spacing),
-            edge_break: o.edge_break.or(b.edge_break),
-            flat_angle: o.flat_angle.or(b.flat_angle),
-            cell_tone: o.cell_tone.or(b.cell_tone),
-            tone: o.tone.or(b.tone),
-            outlines: o.outlines.or(b.outlines),
-            outline_scale: o.outline_scale.or(b.outline_scale),
-            outline_ink: o.outline_ink.or(b.outline_ink),
-            highlights: o.highlights.or(b.highlights),
-        },
+/// `over`'s keys over `base`'s. Where `over` changes the look's kind, `base`'s look keys that
+/// the new look does not read are left behind, so a preset can switch look with one key.
+pub fn merge(base: PresetFile, over: PresetFile) -> Result<PresetFile> {
+    let old_kind = base.look.kind.clone();
+    let mut merged = table(&base)?;
+    merged.remove("extends");
+    if let (Some(kind), Some(toml::Value::Table(look))) = (&over.look.kind, merged.get_mut("look"))
+    {
+        if old_kind.as_deref().unwrap_or(Look::DEFAULT_NAME) != kind {
+            look.retain(|name, _| {
+                schema::key_at(&format!("look.{name}")).is_some_and(|k| k.readers.include(kind))
+            });
+        }
     }
+    for (name, value) in table(&over)? {
+        match (merged.get_mut(&name), value) {
+            (Some(toml::Value::Table(section)), toml::Value::Table(keys)) => section.extend(keys),
+            (_, value) => {
+                merged.insert(name, value);
+            }
+        }
+    }
+    merged.remove("extends");
+    merged
+        .try_into()
+        .map_err(|e| Error::param("style", format!("merging presets: {e}")))
+}
+
+/// A preset file as a TOML table of the keys it sets.
+fn table(file: &PresetFile) -> Result<toml::Table> {
+    toml::Table::try_from(file).map_err(|e| Error::param("style", format!("{e}")))
 }
