@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The before/after sheet of the cells (samples/cells-before-after.jpg): each shared photo in
-# every cell look, the paper's cells (look.cells=voronoi, odd rows) above the default
+# every cell look, the paper's cells (cells.kind=voronoi, odd rows) above the default
 # edge-following cells (even rows). Not a test; regenerate it after a change to the cells.
 #
 # Usage: benches/cells_sheet.sh [OUT.jpg]     (default samples/cells-before-after.jpg)
@@ -19,7 +19,7 @@ rows=()
 for photo in "$PHOTOS"/*.png; do
   name=$(basename "${photo%.*}")
   for cells in voronoi edges; do
-    ./target/release/anisopaint contact-sheet "$photo" -s "$LOOKS" --set "look.cells=$cells" \
+    ./target/release/anisopaint contact-sheet "$photo" -s "$LOOKS" --set "cells.kind=$cells" \
       --columns 7 --tile-width 118 --seed 7 -q -o "$tmp/$name-$cells.png"
     rows+=("$tmp/$name-$cells.png")
   done

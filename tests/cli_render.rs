@@ -231,7 +231,7 @@ fn explore_commands_take_presets_and_go_through_paints_pipeline() {
     let d = |name: &str| dir.path().join(name);
     for style in ["strokes", "pen-hatch"] {
         let (painted, rendered, labels) = (d("p.png"), d("r.png"), d("l.npy"));
-        let seed = ["--seed", "5", "--set", "look.outline_scale=1.5"];
+        let seed = ["--seed", "5", "--set", "outlines.scale=1.5"];
         bin()
             .args(["paint", "samples/chelsea.png", "-s", style])
             .args(seed)

@@ -18,7 +18,7 @@
 //! (d) cells on grain (fur, grass) are one piece each: under 1 % of pixels lie outside their
 //!     cell's largest piece (1.4 % before small detached pieces were absorbed).
 //!
-//! Each check also runs on the paper's cells (`look.cells = "voronoi"`), which must fail it:
+//! Each check also runs on the paper's cells (`cells.kind = "voronoi"`), which must fail it:
 //! the test proves it can tell the two apart.
 
 use anisopaint::input::photo_field;
@@ -136,7 +136,7 @@ fn step_edges_keep_both_colours_up_to_the_edge() {
         .map(|&a| {
             step_edge_share(
                 a,
-                &["look.border_width=0", "look.relief=0", "look.cells=voronoi"],
+                &["look.border_width=0", "look.relief=0", "cells.kind=voronoi"],
             )
         })
         .sum::<f64>()
@@ -239,7 +239,7 @@ fn thin_lines_keep_their_colour_and_their_cells_run_along_them() {
             let (paper, _, _) = line_result(
                 angle,
                 width,
-                &["look.border_width=0", "look.relief=0", "look.cells=voronoi"],
+                &["look.border_width=0", "look.relief=0", "cells.kind=voronoi"],
             );
             paper_worst = paper_worst.max(paper);
         }
@@ -461,7 +461,7 @@ fn edge_cells_of(
 /// otherwise gets the smallest cells right at its one edge, where nothing can straddle much).
 const COARSE: &str = "metric.min_size=0.012";
 /// The cells alone, without the line drawing the ink looks lay over them.
-const NO_OUTLINES: &str = "look.outlines=0";
+const NO_OUTLINES: &str = "outlines.strength=0";
 
 /// Mean luma of `img` blurred at σ = 3 px (viewing distance for hatching), averaged along the
 /// edge or line at `angle`, at signed distances `-12..=12` px from it.
@@ -547,16 +547,16 @@ fn every_cell_look_keeps_edges_sharp_without_bands_and_lines_dark() {
             // tone per cell: detail strokes and the photo's tone point by point mend a
             // smeared edge whatever the cells (measured: 0.9 and 0.04 px wider with them).
             let control: &[&str] = match style_name {
-                "strokes" => &[COARSE, NO_OUTLINES, "look.cells=voronoi", "look.refine=0"],
+                "strokes" => &[COARSE, NO_OUTLINES, "cells.kind=voronoi", "look.refine=0"],
                 "pen-hatch" => &[
                     COARSE,
                     NO_OUTLINES,
-                    "look.cells=voronoi",
+                    "cells.kind=voronoi",
                     "look.cell_tone=true",
                 ],
                 // The engraving's lines cross cells: it always takes the paper's.
                 "engraving" => &[COARSE, NO_OUTLINES],
-                _ => &[COARSE, NO_OUTLINES, "look.cells=voronoi"],
+                _ => &[COARSE, NO_OUTLINES, "cells.kind=voronoi"],
             };
             let (paper, _) = paint(&edge, style_name, control);
             paper_widest = paper_widest.max(transition_width(&profile(&paper, angle)) - sharp);

@@ -33,7 +33,7 @@ fn engrave_at(photo: RgbImage, spacing: f64, angle: f64) -> RgbImage {
         &[
             format!("look.line_spacing={spacing}"),
             format!("look.flat_angle={angle}"),
-            "look.outlines=0".into(),
+            "outlines.strength=0".into(),
         ],
     )
     .unwrap();
@@ -136,7 +136,11 @@ fn white_lines_on_black_paper_engrave_the_light_tones() {
     let grey = 120u8;
     let photo = RgbImage::from_pixel(W, H, image::Rgb([grey; 3]));
     let mut preset = anisopaint::style::load("engraving").unwrap();
-    let sets = ["look.ink=#ffffff", "look.paper=#000000", "look.outlines=0"];
+    let sets = [
+        "look.ink=#ffffff",
+        "look.paper=#000000",
+        "outlines.strength=0",
+    ];
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
     let recipe = Recipe::from_preset(&preset, Default::default(), Some(3)).unwrap();

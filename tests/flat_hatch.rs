@@ -54,7 +54,7 @@ fn without_outlines(style: &str, photo: &RgbImage) -> RgbImage {
 /// (seed 5).
 fn with_sets(style: &str, photo: &RgbImage, sets: &[&str]) -> RgbImage {
     let mut preset = anisopaint::style::load(style).unwrap();
-    let mut all = vec!["look.outlines=0".to_string()];
+    let mut all = vec!["outlines.strength=0".to_string()];
     all.extend(sets.iter().map(|s| s.to_string()));
     anisopaint::style::apply_sets(&mut preset, &all).unwrap();
     let recipe = Recipe::from_preset(&preset, Default::default(), Some(5)).unwrap();

@@ -81,12 +81,12 @@ fn a_thin_light_line_is_found_and_a_step_edge_is_not() {
     assert!(map_of(&flat).0.iter().all(|&v| v == 0.0));
 }
 
-/// `look` painted over the light line with `look.highlights` at `strength`.
+/// `look` painted over the light line with `highlights.strength` at `strength`.
 fn paint(look: &str, strength: &str) -> RgbImage {
     common::painted_with(
         &light_line(),
         look,
-        &[format!("look.highlights={strength}")],
+        &[format!("highlights.strength={strength}")],
         1,
     )
 }

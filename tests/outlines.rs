@@ -138,7 +138,7 @@ fn ink_looks_draw_outlines_over_their_hatching() {
         common::painted_with(
             &photo,
             "pen-hatch",
-            &[format!("look.outlines={outlines}")],
+            &[format!("outlines.strength={outlines}")],
             1,
         )
     };
@@ -173,8 +173,8 @@ fn outlines_take_their_ink_or_the_photos_colour_under_them() {
     let outlined = |ink: &str| {
         let mut preset = anisopaint::style::load("mosaic").unwrap();
         let sets = [
-            "look.outlines=1".to_string(),
-            format!("look.outline_ink={ink}"),
+            "outlines.strength=1".to_string(),
+            format!("outlines.ink={ink}"),
         ];
         anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
         let params = preset.outline().unwrap();
@@ -214,10 +214,10 @@ fn outlines_take_their_ink_or_the_photos_colour_under_them() {
         "the pixel ink drew {own:?}, the photo is {red:?}"
     );
     let mut preset = anisopaint::style::load("mosaic").unwrap();
-    anisopaint::style::apply_sets(&mut preset, &["look.outline_ink=photo".to_string()]).unwrap();
+    anisopaint::style::apply_sets(&mut preset, &["outlines.ink=photo".to_string()]).unwrap();
     let err = preset.outline().unwrap_err().to_string();
     assert!(
-        err.contains("look.outline_ink") && err.contains("pixel"),
+        err.contains("outlines.ink") && err.contains("pixel"),
         "{err}"
     );
 }
@@ -246,7 +246,7 @@ fn outlines_take_their_ink_out_of_the_ink_looks_tone() {
     for style in ["pen-hatch", "crosshatch", "engraving"] {
         let paint = |outlines: &str| {
             let mut preset = anisopaint::style::load(style).unwrap();
-            let sets = [format!("look.outlines={outlines}")];
+            let sets = [format!("outlines.strength={outlines}")];
             anisopaint::style::apply_sets(&mut preset, &sets).unwrap();
             let recipe =
                 anisopaint::paint::Recipe::from_preset(&preset, Default::default(), Some(1))

@@ -130,8 +130,8 @@ fn out_of_range_values_say_the_key_the_value_and_the_range() {
             "invalid look.relief: NaN must be in [0, 1]",
         ),
         (
-            "look.supersample=9",
-            "invalid look.supersample: 9 must be in [1, 4]",
+            "cells.supersample=9",
+            "invalid cells.supersample: 9 must be in [1, 4]",
         ),
         (
             "sampler.iterations=1000000",

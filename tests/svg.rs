@@ -232,7 +232,7 @@ fn mosaic_svg_looks_like_the_png() {
     // winding borders, so more leading pixels move (measured: tone 0.026 and 58 % of pixels
     // within 12 levels, against 0.017 and 66 % for the paper's cells).
     for (cells, least_close) in [("voronoi", 0.6), ("edges", 0.52)] {
-        let set = format!("look.cells={cells}");
+        let set = format!("cells.kind={cells}");
         let sets = ["--set", "look.relief=0", "--set", set.as_str()];
         let (png, svg, text) = paint_both(dir.path(), "mosaic", &sets, 1);
         assert!(
@@ -275,7 +275,7 @@ fn hatch_svg_keeps_the_tones() {
     let dir = tempfile::tempdir().unwrap();
     for style in ["pen-hatch", "crosshatch"] {
         // The hatching alone (the outlines are compared in the test below).
-        let sets = ["--set", "look.outlines=0"];
+        let sets = ["--set", "outlines.strength=0"];
         let (png, _, text) = paint_both(dir.path(), style, &sets, 1);
         assert!(
             text.matches("<clipPath").count() > 500,

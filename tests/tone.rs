@@ -318,7 +318,7 @@ fn strokes_keep_thin_lines_in_their_colour() {
     // A lattice of thin dark struts (1.5 px wide, upright and diagonal every 24 px, a mast
     // against an evening sky) on a blue ground. The strokes, a sample's size and more, paint
     // over the struts with the ground's colour; the outlines in the photo's own colour
-    // (`look.outline_ink = "pixel"`, on in `strokes`) draw them back. Measured on the struts'
+    // (`outlines.ink = "pixel"`, on in `strokes`) draw them back. Measured on the struts'
     // cores (coverage ≥ 0.9), mean distance to the photo's colour (sRGB, 0–255, Euclidean):
     // without the outlines 86.9, with them 0.0 (the photo's own pixels); on the ground 3 px or
     // more from a strut 3.3 and 3.2 (the outlines stay on the struts).
@@ -418,7 +418,7 @@ fn strut_distances(style: &str, ground: [f64; 3], strut: [f64; 3]) -> [f64; 4] {
         (on.0 / on.1, off.0 / off.1)
     };
     let (struts, ground_off) = distances(&[]);
-    let (painted_over, plain_ground) = distances(&["look.outlines=0"]);
+    let (painted_over, plain_ground) = distances(&["outlines.strength=0"]);
     [struts, ground_off, painted_over, plain_ground]
 }
 
@@ -537,7 +537,7 @@ fn a_hatched_texture_keeps_its_mean_tone() {
     // The mean luma away from the borders, as a flat grey is read.
     let want = flat_grey_read(&photo);
     for style in ["pen-hatch", "crosshatch"] {
-        let got = flat_grey_read(&painted(&photo, style, &["look.outlines=0".into()], 2));
+        let got = flat_grey_read(&painted(&photo, style, &["outlines.strength=0".into()], 2));
         assert!(
             (got - want).abs() < 2.0,
             "{style}: reads {got:.1}, the photo {want:.1}"
@@ -561,7 +561,7 @@ fn a_hatched_pixel_grain_keeps_its_mean_tone() {
     let got = flat_grey_read(&painted(
         &photo,
         "pen-hatch",
-        &["look.outlines=0".into()],
+        &["outlines.strength=0".into()],
         2,
     ));
     assert!(
@@ -610,7 +610,7 @@ fn bands_keep_contrast(style: &str, least: f64) {
         let v = if y % (2 * width) < width { 60.0 } else { 190.0 };
         image::Rgb([(v + grain(x, y, 0)) as u8; 3])
     });
-    let img = painted(&photo, style, &["look.outlines=0".to_string()], 3);
+    let img = painted(&photo, style, &["outlines.strength=0".to_string()], 3);
     let (mut dark, mut light) = ((0.0, 0.0), (0.0, 0.0));
     for y in (20..h - 20).filter(|&y| y % width == 1) {
         for x in 20..w - 20 {

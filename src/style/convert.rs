@@ -139,58 +139,55 @@ impl Preset {
         })
     }
 
-    /// Which cells the looks paint: `look.cells` ("edges" by default, or "voronoi"),
-    /// `look.colour_weight` (0 to 1e6), `look.cell_iterations` (0 to 20), `look.cell_reach`
-    /// (≥ 0) and `look.cell_blur_px` (0 to 20).
+    /// Which cells the looks paint: `cells.kind` ("edges" by default, or "voronoi"),
+    /// `cells.colour_weight`, `cells.iterations`, `cells.reach` and `cells.blur_px`.
     pub fn cells(&self) -> Result<CellParams> {
-        let l = &self.file.look;
+        let c = &self.file.cells;
         let d = CellParams::default();
-        let kind = match l.cells.as_deref() {
+        let kind = match c.kind.as_deref() {
             None => d.kind,
-            Some(name) => named("look.cells", name, CellKind::named, &CellKind::NAMES)?,
+            Some(name) => named("cells.kind", name, CellKind::named, &CellKind::NAMES)?,
         };
-        let colour_weight = ranged("look.colour_weight", l.colour_weight, d.colour_weight)?;
-        let iterations = ranged("look.cell_iterations", l.cell_iterations, d.iterations)?;
-        // inf: no limit.
-        let reach = ranged("look.cell_reach", l.cell_reach, d.reach)?;
-        let blur_px = ranged("look.cell_blur_px", l.cell_blur_px, d.blur_px)?;
         Ok(CellParams {
             kind,
-            colour_weight,
-            iterations,
-            reach,
-            blur_px,
+            colour_weight: ranged("cells.colour_weight", c.colour_weight, d.colour_weight)?,
+            iterations: ranged("cells.iterations", c.iterations, d.iterations)?,
+            reach: ranged("cells.reach", c.reach, d.reach)?,
+            blur_px: ranged("cells.blur_px", c.blur_px, d.blur_px)?,
         })
     }
 
-    /// The outlines over the look: `look.outlines` (ink, 0 to 1, default none),
-    /// `look.outline_scale` (line width, 0.25 to 4) and `look.outline_ink` (`#rrggbb`, or
-    /// `pixel` for the photo's colour under the lines); `look.highlights` (paper along thin
-    /// light lines, 0 to 1, default none).
+    /// The outlines over the look: `outlines.strength` (ink, default none), `outlines.scale`
+    /// (line width) and `outlines.ink` (`#rrggbb`, or `pixel` for the photo's colour under
+    /// the lines); `highlights.strength` (paper along thin light lines, default none).
     pub fn outline(&self) -> Result<OutlineParams> {
-        let l = &self.file.look;
+        let o = &self.file.outlines;
         let d = OutlineParams::default();
-        let ink = match l.outline_ink.as_deref() {
+        let ink = match o.ink.as_deref() {
             None => d.ink,
             Some(OutlineInk::PIXEL) => OutlineInk::Pixel,
-            Some(c) => OutlineInk::Colour(colour("look.outline_ink", c).map_err(|_| {
+            Some(c) => OutlineInk::Colour(colour("outlines.ink", c).map_err(|_| {
                 Error::param(
-                    "look.outline_ink",
+                    "outlines.ink",
                     format!("{c}: expected #rrggbb or {}", OutlineInk::PIXEL),
                 )
             })?),
         };
         Ok(OutlineParams {
-            strength: ranged("look.outlines", l.outlines, d.strength)?,
-            scale: ranged("look.outline_scale", l.outline_scale, d.scale)?,
+            strength: ranged("outlines.strength", o.strength, d.strength)?,
+            scale: ranged("outlines.scale", o.scale, d.scale)?,
             ink,
-            highlights: ranged("look.highlights", l.highlights, d.highlights)?,
+            highlights: ranged(
+                "highlights.strength",
+                self.file.highlights.strength,
+                d.highlights,
+            )?,
         })
     }
 
-    /// Raster points per pixel at cell borders (default 2, 1 to 4).
+    /// Raster points per pixel at cell borders (`cells.supersample`, default 2).
     pub fn supersample(&self) -> Result<usize> {
-        ranged("look.supersample", self.file.look.supersample, 2)
+        ranged("cells.supersample", self.file.cells.supersample, 2)
     }
 
     /// The look with the preset's parameters.

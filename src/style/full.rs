@@ -4,7 +4,10 @@
 //! values are read back from the converted parameters ([`convert`](super::convert)), so what
 //! is printed is what paints, and printing it again after loading it changes nothing.
 
-use super::preset::{LookSection, MetricSection, Preset, PresetFile, SamplerSection};
+use super::preset::{
+    CellsSection, HighlightsSection, LookSection, MetricSection, OutlinesSection, Preset,
+    PresetFile, SamplerSection,
+};
 use super::schema::{self, Key};
 use crate::error::{Error, Result};
 use crate::render::lines::outline_ink::OutlineInk;
@@ -33,7 +36,10 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
     let given = &preset.file.look;
     let mut look = LookSection {
         kind: Some(given.kind.clone().unwrap_or(Look::DEFAULT_NAME.into())),
-        cells: Some(
+        ..LookSection::default()
+    };
+    let cells = CellsSection {
+        kind: Some(
             match cells.kind {
                 crate::render::cells::CellKind::Edges => "edges",
                 crate::render::cells::CellKind::Voronoi => "voronoi",
@@ -41,18 +47,21 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             .into(),
         ),
         colour_weight: Some(cells.colour_weight),
-        cell_iterations: Some(cells.iterations),
-        cell_reach: Some(cells.reach),
-        cell_blur_px: Some(cells.blur_px),
+        iterations: Some(cells.iterations),
+        reach: Some(cells.reach),
+        blur_px: Some(cells.blur_px),
         supersample: Some(preset.supersample()?),
-        outlines: Some(outline.strength),
-        outline_scale: Some(outline.scale),
-        highlights: Some(outline.highlights),
-        outline_ink: Some(match outline.ink {
+    };
+    let outlines = OutlinesSection {
+        strength: Some(outline.strength),
+        scale: Some(outline.scale),
+        ink: Some(match outline.ink {
             OutlineInk::Colour(c) => hex(c),
             OutlineInk::Pixel => OutlineInk::PIXEL.into(),
         }),
-        ..LookSection::default()
+    };
+    let highlights = HighlightsSection {
+        strength: Some(outline.highlights),
     };
     match preset.look()? {
         Look::Mosaic(p) => {
@@ -126,17 +135,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.flat_angle = Some(p.flat_angle);
         }
     }
-    // Only the keys this look reads (the cells' keys are written above for every look).
-    let kind = look.kind.clone().unwrap_or_default();
-    let mut table = toml::Table::try_from(&look)
-        .map_err(|e| Error::param("style", format!("cannot write it as TOML: {e}")))?;
-    table.retain(|name, _| {
-        schema::key_at(&format!("look.{name}")).is_some_and(|k| k.readers.include(&kind))
-    });
-    let look: LookSection = table
-        .try_into()
-        .map_err(|e| Error::param("style", format!("cannot write it as TOML: {e}")))?;
-    Ok(PresetFile {
+    let file = PresetFile {
         description: preset.file.description.clone(),
         extends: None,
         metric: MetricSection {
@@ -152,8 +151,32 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             seed: Some(s.seed),
             seeding: Some(s.seeding.name().to_string()),
         },
+        cells,
+        outlines,
+        highlights,
         look,
-    })
+    };
+    only_what_the_look_reads(&file)
+}
+
+/// `file` without the keys its look does not read (the cells', outlines' and highlights' keys
+/// are filled in above for every look).
+fn only_what_the_look_reads(file: &PresetFile) -> Result<PresetFile> {
+    let kind = file.look.kind.clone().unwrap_or_default();
+    let bad = |e: String| Error::param("style", format!("cannot write it as TOML: {e}"));
+    let mut table = toml::Table::try_from(file).map_err(|e| bad(e.to_string()))?;
+    for (section, keys) in table.iter_mut() {
+        if let toml::Value::Table(keys) = keys {
+            keys.retain(|name, _| {
+                schema::key_at(&format!("{section}.{name}"))
+                    .is_some_and(|k| k.readers.include(&kind))
+            });
+        }
+    }
+    table.retain(|_, keys| !matches!(keys, toml::Value::Table(k) if k.is_empty()));
+    table
+        .try_into()
+        .map_err(|e: toml::de::Error| bad(e.to_string()))
 }
 
 /// Every key `preset`'s look reads ([`schema::read_by`]), in the schema's order, with the
@@ -198,7 +221,7 @@ mod tests {
     fn the_full_preset_writes_the_keys_the_schema_names() {
         for kind in Look::NAMES {
             let mut preset = Preset::defaults();
-            preset.file.look.cells = None;
+            preset.file.cells.kind = None;
             crate::style::apply_sets(&mut preset, &[format!("look.kind={kind}")]).unwrap();
             for (key, value) in key_values(&preset).unwrap() {
                 let optional = matches!(key.name(), "texture" | "flat_angle" | "ink_darken");
@@ -209,10 +232,14 @@ mod tests {
                 );
             }
             let file = full(&preset).unwrap();
-            let written = toml::Table::try_from(&file.look).unwrap();
-            for name in written.keys() {
-                let key = schema::key_at(&format!("look.{name}")).unwrap();
-                assert!(key.readers.include(kind), "{kind} writes look.{name}");
+            for (section, keys) in toml::Table::try_from(&file).unwrap() {
+                let toml::Value::Table(keys) = keys else {
+                    continue;
+                };
+                for name in keys.keys() {
+                    let key = schema::key_at(&format!("{section}.{name}")).unwrap();
+                    assert!(key.readers.include(kind), "{kind} writes {section}.{name}");
+                }
             }
         }
     }

@@ -16,8 +16,9 @@ pub mod sheet;
 
 pub use full::{full_toml, key_values};
 pub use preset::{
-    apply_sets, built_in, load, merge, parse, LookSection, MetricSection, Preset, PresetFile,
-    SamplerSection, BUILT_IN, BUILT_IN_TEXTURES, DEFAULT_STYLE,
+    apply_sets, built_in, load, merge, parse, CellsSection, HighlightsSection, LookSection,
+    MetricSection, OutlinesSection, Preset, PresetFile, SamplerSection, BUILT_IN,
+    BUILT_IN_TEXTURES, DEFAULT_STYLE,
 };
 
 #[cfg(test)]
@@ -103,6 +104,22 @@ mod tests {
             "{msg}"
         );
         assert!(msg.contains("the mosaic look reads look.kind"), "{msg}");
+        // A key of an earlier layout says where it went, in a file and through --set.
+        let e = parse("[look]\nkind = \"hatch\"\noutlines = 1.0\n", "old.toml").unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("old.toml:3:1"), "{msg}");
+        assert!(
+            msg.contains(
+                "look.outlines is now outlines.strength: write `strength = …` under [outlines]"
+            ),
+            "{msg}"
+        );
+        let mut p = load("mosaic").unwrap();
+        let e = apply_sets(&mut p, &["look.cells=voronoi".into()]).unwrap_err();
+        assert!(
+            e.to_string().contains("look.cells is now cells.kind"),
+            "{e}"
+        );
         let e = parse("[metric]\nmax_anisotropy = \"lots\"\n", "y.toml").unwrap_err();
         assert!(e.to_string().contains("y.toml:2:18"), "{e}");
     }

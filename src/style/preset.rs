@@ -1,4 +1,5 @@
-//! Presets as files: the TOML sections `[metric]`, `[sampler]` and `[look]` of optional keys,
+//! Presets as files: the TOML sections `[metric]`, `[sampler]`, `[cells]`, `[outlines]`,
+//! `[highlights]` and `[look]` of optional keys,
 //! the built-in presets and textures compiled in from `styles/`, loading down an `extends`
 //! chain, and `--set key.path=value` overrides checked like preset lines. Every section
 //! accepts only its own keys (serde's `deny_unknown_fields`), and `[look]` only those its look
@@ -49,9 +50,58 @@ pub struct PresetFile {
     /// The sampler.
     #[serde(default)]
     pub sampler: SamplerSection,
+    /// Which cells the look paints.
+    #[serde(default)]
+    pub cells: CellsSection,
+    /// The outlines along the photo's edges, over any look.
+    #[serde(default)]
+    pub outlines: OutlinesSection,
+    /// Paper along the photo's thin light lines, over the one-ink looks.
+    #[serde(default)]
+    pub highlights: HighlightsSection,
     /// The look and its parameters.
     #[serde(default)]
     pub look: LookSection,
+}
+
+/// `[cells]`: which cells the look paints (see [`schema::KEYS`] for each key).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CellsSection {
+    /// "edges" (cells that stop at the photo's edges) or "voronoi" (the paper's cells).
+    pub kind: Option<String>,
+    /// Weight of the colour term of edge-following cells.
+    pub colour_weight: Option<f64>,
+    /// Assign-and-move rounds of edge-following cells.
+    pub iterations: Option<usize>,
+    /// How far past the paper's border an edge-following cell may reach (in `δ`).
+    pub reach: Option<f64>,
+    /// σ in photo pixels of the blur the colour term of edge-following cells sees.
+    pub blur_px: Option<f32>,
+    /// Raster points per pixel along each axis where a border crosses it.
+    pub supersample: Option<usize>,
+}
+
+/// `[outlines]`: lines along the photo's edges over any look.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OutlinesSection {
+    /// Their ink, 0 (none) to 1.
+    pub strength: Option<f32>,
+    /// Their width relative to the default.
+    pub scale: Option<f32>,
+    /// What they are drawn in: `#rrggbb`, or `pixel` for the photo's colour under every pixel
+    /// of the lines.
+    pub ink: Option<String>,
+}
+
+/// `[highlights]`: paper along the photo's thin light lines (whiskers, masts, stars) over the
+/// one-ink looks (hatching, cross-hatching, engraving).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HighlightsSection {
+    /// How much paper, 0 (none) to 1.
+    pub strength: Option<f32>,
 }
 
 /// `[metric]`: see [`MetricParams`](crate::field::MetricParams) for the meaning of each key.
@@ -89,17 +139,6 @@ pub struct SamplerSection {
 pub struct LookSection {
     /// mosaic, hatch, crosshatch, line, stroke, stipple, glyphs, engraving, fabric or lic.
     pub kind: Option<String>,
-    /// "edges" (cells that stop at the photo's edges) or "voronoi" (the paper's cells).
-    pub cells: Option<String>,
-    /// Weight of the colour term of edge-following cells.
-    pub colour_weight: Option<f64>,
-    /// Assign-and-move rounds of edge-following cells.
-    pub cell_iterations: Option<usize>,
-    /// How far past the paper's border an edge-following cell may reach (in `δ`).
-    pub cell_reach: Option<f64>,
-    /// σ in photo pixels of the blur the colour term of edge-following cells sees.
-    pub cell_blur_px: Option<f32>,
-    pub supersample: Option<usize>,
     pub border_width: Option<f32>,
     pub border_colour: Option<String>,
     pub relief: Option<f32>,
@@ -143,16 +182,6 @@ pub struct LookSection {
     pub cell_tone: Option<bool>,
     /// Engraving: lightness of a field without a photo.
     pub tone: Option<f32>,
-    /// Ink of the outlines along the photo's edges, 0 (none) to 1; any look.
-    pub outlines: Option<f32>,
-    /// Width of the outlines relative to the default.
-    pub outline_scale: Option<f32>,
-    /// What the outlines are drawn in: `#rrggbb`, or `pixel` for the photo's colour under
-    /// every pixel of the lines.
-    pub outline_ink: Option<String>,
-    /// Paper laid along the photo's thin light lines (whiskers, masts, stars), 0 (none) to 1;
-    /// the one-ink looks (hatching, cross-hatching, engraving).
-    pub highlights: Option<f32>,
 }
 
 /// A preset resolved down its `extends` chain, with its name.
@@ -168,12 +197,12 @@ pub struct Preset {
 
 impl Preset {
     /// The preset of no file: every key at the library's default (a mosaic), but the
-    /// paper's own generalized Voronoi cells (`look.cells = "voronoi"`), so that the explore
+    /// paper's own generalized Voronoi cells (`cells.kind = "voronoi"`), so that the explore
     /// commands without `-s` show the paper's method and their label maps are its cells.
     #[must_use]
     pub fn defaults() -> Preset {
         let mut file = PresetFile::default();
-        file.look.cells = Some("voronoi".into());
+        file.cells.kind = Some("voronoi".into());
         Preset {
             name: "defaults".into(),
             file,
@@ -227,10 +256,15 @@ fn unknown_key(section: &str, name: &str, kind: &str) -> String {
     if section.is_empty() {
         return format!(
             "unknown key {name}: a preset has description, extends and the sections \
-             [metric], [sampler] and [look]"
+             [metric], [sampler], [cells], [outlines], [highlights] and [look]"
         );
     }
-    let mut message = match schema::key_at(&format!("{section}.{name}")) {
+    let path = format!("{section}.{name}");
+    if let Some((_, to)) = schema::MOVED.iter().find(|(from, _)| *from == path) {
+        let (new_section, new_name) = to.split_once('.').unwrap_or((to, ""));
+        return format!("{path} is now {to}: write `{new_name} = …` under [{new_section}]");
+    }
+    let mut message = match schema::key_at(&path) {
         Some(key) => {
             let readers: Vec<&str> = Look::NAMES
                 .into_iter()
@@ -256,29 +290,39 @@ fn unknown_key(section: &str, name: &str, kind: &str) -> String {
     message
 }
 
-/// Fails when `file` sets a look key its look does not read, naming the nearest one it does.
+/// Fails when `file` sets a key its look does not read, naming the nearest one it does.
 fn check_look_keys(file: &PresetFile, origin: &str) -> Result<()> {
     let kind = file.look.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
     if !Look::NAMES.contains(&kind) {
         return Ok(()); // the conversion names the bad kind and the good ones
     }
-    for name in set_keys(&file.look) {
-        let read = schema::key_at(&format!("look.{name}")).is_some_and(|k| k.readers.include(kind));
-        if !read {
-            return Err(Error::param(
-                format!("style {origin}"),
-                unknown_key("look", &name, kind),
-            ));
+    for (section, names) in set_keys(file) {
+        for name in names {
+            let read = schema::key_at(&format!("{section}.{name}"))
+                .is_some_and(|k| k.readers.include(kind));
+            if !read {
+                return Err(Error::param(
+                    format!("style {origin}"),
+                    unknown_key(&section, &name, kind),
+                ));
+            }
         }
     }
     Ok(())
 }
 
-/// The names of the keys a section sets.
-fn set_keys<T: Serialize>(section: &T) -> Vec<String> {
-    toml::Table::try_from(section)
-        .map(|t| t.keys().cloned().collect())
-        .unwrap_or_default()
+/// Every section `file` sets keys in, with the names of those keys.
+fn set_keys(file: &PresetFile) -> Vec<(String, Vec<String>)> {
+    let Ok(table) = toml::Table::try_from(file) else {
+        return Vec::new();
+    };
+    table
+        .into_iter()
+        .filter_map(|(section, keys)| match keys {
+            toml::Value::Table(keys) => Some((section, keys.keys().cloned().collect())),
+            _ => None,
+        })
+        .collect()
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -353,7 +397,7 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
         let Some((section, field)) = key.split_once('.') else {
             return Err(Error::param(
                 "--set",
-                format!("{key}: expected section.key (metric, sampler or look)"),
+                format!("{key}: expected section.key (metric, sampler, cells, outlines, highlights or look)"),
             ));
         };
         // A value that is not valid TOML (a bare word) is taken as a string.
@@ -384,19 +428,24 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// `over`'s keys over `base`'s. Where `over` changes the look's kind, `base`'s look keys that
-/// the new look does not read are left behind, so a preset can switch look with one key.
+/// `over`'s keys over `base`'s. Where `over` changes the look's kind, `base`'s keys that the
+/// new look does not read are left behind, so a preset can switch look with one key.
 pub fn merge(base: PresetFile, over: PresetFile) -> Result<PresetFile> {
     let old_kind = base.look.kind.clone();
     let mut merged = table(&base)?;
     merged.remove("extends");
-    if let (Some(kind), Some(toml::Value::Table(look))) = (&over.look.kind, merged.get_mut("look"))
-    {
-        if old_kind.as_deref().unwrap_or(Look::DEFAULT_NAME) != kind {
-            look.retain(|name, _| {
-                schema::key_at(&format!("look.{name}")).is_some_and(|k| k.readers.include(kind))
-            });
+    match &over.look.kind {
+        Some(kind) if old_kind.as_deref().unwrap_or(Look::DEFAULT_NAME) != kind => {
+            for (section, keys) in merged.iter_mut() {
+                if let toml::Value::Table(keys) = keys {
+                    keys.retain(|name, _| {
+                        schema::key_at(&format!("{section}.{name}"))
+                            .is_some_and(|k| k.readers.include(kind))
+                    });
+                }
+            }
         }
+        _ => {}
     }
     for (name, value) in table(&over)? {
         match (merged.get_mut(&name), value) {

@@ -98,7 +98,7 @@ pub struct Key {
 }
 
 impl Key {
-    /// The section (`metric`, `sampler` or `look`).
+    /// The section (`metric`, `sampler`, `cells`, `outlines`, `highlights` or `look`).
     #[must_use]
     pub fn section(&self) -> &'static str {
         self.path.split_once('.').map_or(self.path, |(s, _)| s)
@@ -172,6 +172,20 @@ const fn key(path: &'static str, value: Value, readers: Readers, doc: &'static s
 
 use Readers::{All, Only};
 
+/// Keys of earlier presets and where they went: a preset that sets one is told what to write.
+pub const MOVED: &[(&str, &str)] = &[
+    ("look.cells", "cells.kind"),
+    ("look.colour_weight", "cells.colour_weight"),
+    ("look.cell_iterations", "cells.iterations"),
+    ("look.cell_reach", "cells.reach"),
+    ("look.cell_blur_px", "cells.blur_px"),
+    ("look.supersample", "cells.supersample"),
+    ("look.outlines", "outlines.strength"),
+    ("look.outline_scale", "outlines.scale"),
+    ("look.outline_ink", "outlines.ink"),
+    ("look.highlights", "highlights.strength"),
+];
+
 /// Every key a preset may set, section by section.
 #[rustfmt::skip]
 pub const KEYS: &[Key] = &[
@@ -184,13 +198,17 @@ pub const KEYS: &[Key] = &[
     key("sampler.iterations", Value::Integer { min: 0, max: 10_000 }, All, "relaxation iterations of the particle sampler (the paper never needed over 1 000)"),
     key("sampler.seed", Value::Integer { min: 0, max: u64::MAX }, All, "seed of every random choice (the same seed, the same picture)"),
     key("sampler.seeding", Value::Choice(&["auto", "lattice", "darts"]), All, "how samples are seeded: a metric-aligned lattice, the paper's dart throwing, or by size"),
+    key("cells.kind", Value::Choice(&["edges", "voronoi"]), Only(CELL_LOOKS), "cells that stop at the photo's edges, or the paper's Voronoi cells"),
+    key("cells.colour_weight", number(0.0, 1e6), Only(CELL_LOOKS), "weight of colour against distance in edge-following cells"),
+    key("cells.iterations", Value::Integer { min: 0, max: 20 }, Only(CELL_LOOKS), "assign-and-move rounds of edge-following cells"),
+    key("cells.reach", number(0.0, f64::INFINITY), Only(CELL_LOOKS), "how far past the paper's border an edge-following cell may reach, in ellipse radii"),
+    key("cells.blur_px", number(0.0, 20.0), Only(CELL_LOOKS), "blur (photo pixels) of the colours edge-following cells compare"),
+    key("cells.supersample", Value::Integer { min: 1, max: 4 }, All, "raster points per pixel along each axis where a border crosses it"),
+    key("outlines.strength", UNIT, All, "ink of the outlines along the photo's edges (0: none)"),
+    key("outlines.scale", number(0.25, 4.0), All, "width of the outlines against the default"),
+    key("outlines.ink", Value::ColourOr(&["pixel"]), All, "the outlines' ink: a colour, or the photo's colour under each point"),
+    key("highlights.strength", UNIT, Only(ONE_INK), "paper laid along the photo's thin light lines (0: none)"),
     key("look.kind", Value::Choice(&Look::NAMES), All, "which look paints the cells"),
-    key("look.cells", Value::Choice(&["edges", "voronoi"]), Only(CELL_LOOKS), "cells that stop at the photo's edges, or the paper's Voronoi cells"),
-    key("look.colour_weight", number(0.0, 1e6), Only(CELL_LOOKS), "weight of colour against distance in edge-following cells"),
-    key("look.cell_iterations", Value::Integer { min: 0, max: 20 }, Only(CELL_LOOKS), "assign-and-move rounds of edge-following cells"),
-    key("look.cell_reach", number(0.0, f64::INFINITY), Only(CELL_LOOKS), "how far past the paper's border an edge-following cell may reach, in ellipse radii"),
-    key("look.cell_blur_px", number(0.0, 20.0), Only(CELL_LOOKS), "blur (photo pixels) of the colours edge-following cells compare"),
-    key("look.supersample", Value::Integer { min: 1, max: 4 }, All, "raster points per pixel along each axis where a border crosses it"),
     key("look.border_width", WIDTH_PX, Only(BORDERED), "width of the borders between cells, in pixels of a one-megapixel picture"),
     key("look.border_colour", Value::Colour, Only(BORDER_COLOUR), "colour of the mosaic's leading, or of the glyphs' outlines"),
     key("look.relief", UNIT, Only(&["mosaic"]), "how strongly each tessera is lit as a dome, from the upper left"),
@@ -220,10 +238,6 @@ pub const KEYS: &[Key] = &[
     key("look.flat_angle", ANGLE, Only(FLAT_ANGLE), "direction (degrees) of lines, strokes or threads where the field has none"),
     key("look.cell_tone", Value::Bool, Only(TEXTURES), "one tone per cell (the paper's) instead of the photo's tone point by point"),
     key("look.tone", UNIT, Only(&["engraving"]), "lightness of a tensor field engraved without a photo"),
-    key("look.outlines", UNIT, All, "ink of the outlines along the photo's edges (0: none)"),
-    key("look.outline_scale", number(0.25, 4.0), All, "width of the outlines against the default"),
-    key("look.outline_ink", Value::ColourOr(&["pixel"]), All, "the outlines' ink: a colour, or the photo's colour under each point"),
-    key("look.highlights", UNIT, Only(ONE_INK), "paper laid along the photo's thin light lines (0: none)"),
 ];
 
 /// The key at `path` (`section.name`).

@@ -27,7 +27,7 @@ pub enum OutlineInk {
 }
 
 impl OutlineInk {
-    /// The preset's name of [`OutlineInk::Pixel`] (`look.outline_ink = "pixel"`).
+    /// The preset's name of [`OutlineInk::Pixel`] (`outlines.ink = "pixel"`).
     pub const PIXEL: &'static str = "pixel";
 }
 

@@ -1,6 +1,6 @@
 //! The outlines' vector form, to go over a look's SVG: the line map's pieces traced and
 //! simplified like the cells, filled in one ink each ([`outlines`]); or, for outlines drawn in
-//! the photo's own colour pixel by pixel (a rigger brush, `look.outline_ink = "pixel"`), their
+//! the photo's own colour pixel by pixel (a rigger brush, `outlines.ink = "pixel"`), their
 //! traced shapes clipping an embedded copy of the photo at the picture's size
 //! ([`photo_in_shapes`]), so the vector form shows the colours the raster lays. Filled instead
 //! with one mean colour per piece, the pieces had to be cut into 4 px tiles to keep a lattice
