@@ -291,9 +291,57 @@ fn edits(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// The keys as a Markdown reference, section by section: each key, what it takes, which
+/// looks read it and what it does (`docs/keys.md` is this text; a test keeps it current).
+#[must_use]
+pub fn reference_markdown() -> String {
+    let mut out = String::from(
+        "# Preset keys\n\nEvery key a preset may set, from the schema the presets are checked \
+         against (`anisopaint::style::schema::KEYS`). `anisopaint styles keys NAME` lists the \
+         keys a preset's look reads with the values it paints with. A key its look does not \
+         read is an error.\n",
+    );
+    let mut section = "";
+    for k in KEYS {
+        if k.section() != section {
+            section = k.section();
+            out.push_str(&format!(
+                "\n## [{section}]\n\n| key | takes | read by | what it does |\n|---|---|---|---|\n"
+            ));
+        }
+        let readers = match k.readers {
+            Readers::All => "every look".to_string(),
+            Readers::Only(kinds) => kinds.join(", "),
+        };
+        out.push_str(&format!(
+            "| `{}` | {} | {readers} | {} |\n",
+            k.name(),
+            k.value.describe(),
+            k.doc
+        ));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `docs/keys.md` is [`reference_markdown`]'s text (`REGENERATE=1` rewrites it).
+    #[test]
+    fn the_key_reference_in_the_docs_is_current() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/keys.md");
+        let text = reference_markdown();
+        if std::env::var_os("REGENERATE").is_some() {
+            std::fs::write(&path, &text).unwrap();
+        }
+        let written = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            written == text,
+            "docs/keys.md is not the schema's reference: REGENERATE=1 cargo test --lib \
+             the_key_reference rewrites it"
+        );
+    }
 
     #[test]
     fn every_key_is_listed_once_and_read_by_some_look() {
