@@ -190,35 +190,8 @@ pub fn sample_observed(
     let mut rng = rng::Rng::new(params.seed, 0);
     let fixed = boundary::boundary_samples(field, &mut rng);
     let target = (estimate - fixed.len() as f64).round().max(0.0) as usize;
-    let seeding = match params.seeding {
-        Seeding::Auto
-            if estimate >= params::LATTICE_FROM_COUNT
-                || (survey.uniform && estimate >= params::LATTICE_FROM_COUNT_UNIFORM) =>
-        {
-            Seeding::Lattice
-        }
-        Seeding::Auto => Seeding::Darts,
-        chosen => chosen,
-    };
-    let (interior, rho) = match seeding {
-        Seeding::Darts | Seeding::Auto => {
-            seeding::relaxation_dart_throwing(field, &fixed, target, &params.darts, &mut rng)
-        }
-        Seeding::Lattice => {
-            // A constant metric's lattice lies along the walls (see `lattice::wall_phase`).
-            let wall = survey
-                .uniform
-                .then(|| lattice::wall_phase(&field.node(0, 0), field.domain()))
-                .flatten();
-            let lattice = lattice::LatticeParams {
-                phase: wall.unwrap_or(params.lattice.phase),
-                ..params.lattice.clone()
-            };
-            let interior = lattice::lattice_seeding(field, &fixed, target, &lattice, &mut rng);
-            // The closest a seed sample may be: the fill's ρ when it ran.
-            (interior, params.lattice.rho.min(params.lattice.fill_rho))
-        }
-    };
+    let seeding = seeding_for(params.seeding, &survey);
+    let (interior, rho) = seed_interior(field, &fixed, target, seeding, &survey, params, &mut rng);
     stats.boundary = fixed.len();
     stats.seeded = interior.len();
     stats.final_rho = rho;
@@ -273,16 +246,7 @@ pub fn sample_observed(
             fresh = true;
         }
         let t = Instant::now();
-        // Over the settling iterations the force scale falls linearly to `settle_force`
-        // of its value: the high-frequency ringing of compressed pairs dies out and the
-        // packing comes to rest.
-        let settle = schedule.settle_iterations.max(1) as f64;
-        let into = ((it + schedule.settle_iterations) as f64 - schedule.iterations as f64) / settle;
-        let cooling = 1.0 - (1.0 - params.settle_force) * into.clamp(0.0, 1.0);
-        let dynamics_now = Dynamics {
-            scale: dynamics.scale * cooling,
-            ..dynamics
-        };
+        let dynamics_now = cooled(dynamics, &schedule, params.settle_force, it);
         let step;
         (step, drift) = relax_once(&mut particles, &edges, field, &dynamics_now, fresh);
         fresh = false;
@@ -315,4 +279,65 @@ pub fn sample_observed(
         mesh,
         stats,
     })
+}
+
+/// The seeding `chosen` resolves to for a metric of `survey`: `Auto` takes the lattice for
+/// large fields (and smaller constant ones, whose lattice is their packing), darts below.
+fn seeding_for(chosen: Seeding, survey: &seeding::Survey) -> Seeding {
+    let estimate = survey.estimate;
+    match chosen {
+        Seeding::Auto
+            if estimate >= params::LATTICE_FROM_COUNT
+                || (survey.uniform && estimate >= params::LATTICE_FROM_COUNT_UNIFORM) =>
+        {
+            Seeding::Lattice
+        }
+        Seeding::Auto => Seeding::Darts,
+        chosen => chosen,
+    }
+}
+
+/// About `target` interior samples seeded by `seeding` among the `fixed` boundary samples, and
+/// the closest a seed sample may be to another (ρ).
+fn seed_interior(
+    field: &TensorField,
+    fixed: &[DVec2],
+    target: usize,
+    seeding: Seeding,
+    survey: &seeding::Survey,
+    params: &SamplerParams,
+    rng: &mut rng::Rng,
+) -> (Vec<DVec2>, f64) {
+    match seeding {
+        Seeding::Darts | Seeding::Auto => {
+            seeding::relaxation_dart_throwing(field, fixed, target, &params.darts, rng)
+        }
+        Seeding::Lattice => {
+            // A constant metric's lattice lies along the walls (see `lattice::wall_phase`).
+            let wall = survey
+                .uniform
+                .then(|| lattice::wall_phase(&field.node(0, 0), field.domain()))
+                .flatten();
+            let lattice = lattice::LatticeParams {
+                phase: wall.unwrap_or(params.lattice.phase),
+                ..params.lattice.clone()
+            };
+            let interior = lattice::lattice_seeding(field, fixed, target, &lattice, rng);
+            // The closest a seed sample may be: the fill's ρ when it ran.
+            (interior, params.lattice.rho.min(params.lattice.fill_rho))
+        }
+    }
+}
+
+/// `dynamics` at iteration `it` of `schedule`: over the settling iterations the force scale
+/// falls linearly to `settle_force` of its value, so the high-frequency ringing of compressed
+/// pairs dies out and the packing comes to rest.
+fn cooled(dynamics: Dynamics, schedule: &Schedule, settle_force: f64, it: usize) -> Dynamics {
+    let settle = schedule.settle_iterations.max(1) as f64;
+    let into = ((it + schedule.settle_iterations) as f64 - schedule.iterations as f64) / settle;
+    let cooling = 1.0 - (1.0 - settle_force) * into.clamp(0.0, 1.0);
+    Dynamics {
+        scale: dynamics.scale * cooling,
+        ..dynamics
+    }
 }

@@ -31,14 +31,44 @@ pub fn full_toml(preset: &Preset) -> Result<String> {
 pub fn full(preset: &Preset) -> Result<PresetFile> {
     let m = preset.metric()?;
     let s = preset.sampler()?;
-    let cells = preset.cells()?;
     let outline = preset.outline()?;
-    let given = &preset.file.look;
-    let mut look = LookSection {
-        kind: Some(given.kind.clone().unwrap_or(Look::DEFAULT_NAME.into())),
-        ..LookSection::default()
+    let file = PresetFile {
+        description: preset.file.description.clone(),
+        extends: None,
+        metric: MetricSection {
+            min_size: Some(m.min_size),
+            max_size: Some(m.max_size),
+            max_anisotropy: Some(m.max_anisotropy),
+            gradation: Some(m.gradation),
+            smoothing: Some(m.smoothing),
+            detail_quantile: Some(m.detail_quantile),
+        },
+        sampler: SamplerSection {
+            iterations: Some(s.iterations),
+            seed: Some(s.seed),
+            seeding: Some(s.seeding.name().to_string()),
+        },
+        cells: cells_section(preset)?,
+        outlines: OutlinesSection {
+            strength: Some(outline.strength),
+            scale: Some(outline.scale),
+            ink: Some(match outline.ink {
+                OutlineInk::Colour(c) => hex(c),
+                OutlineInk::Pixel => OutlineInk::PIXEL.into(),
+            }),
+        },
+        highlights: HighlightsSection {
+            strength: Some(outline.highlights),
+        },
+        look: look_section(preset)?,
     };
-    let cells = CellsSection {
+    only_what_the_look_reads(&file)
+}
+
+/// `[cells]` as `preset` paints it.
+fn cells_section(preset: &Preset) -> Result<CellsSection> {
+    let cells = preset.cells()?;
+    Ok(CellsSection {
         kind: Some(
             match cells.kind {
                 crate::render::cells::CellKind::Edges => "edges",
@@ -51,17 +81,15 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
         reach: Some(cells.reach),
         blur_px: Some(cells.blur_px),
         supersample: Some(preset.supersample()?),
-    };
-    let outlines = OutlinesSection {
-        strength: Some(outline.strength),
-        scale: Some(outline.scale),
-        ink: Some(match outline.ink {
-            OutlineInk::Colour(c) => hex(c),
-            OutlineInk::Pixel => OutlineInk::PIXEL.into(),
-        }),
-    };
-    let highlights = HighlightsSection {
-        strength: Some(outline.highlights),
+    })
+}
+
+/// `[look]` as `preset` paints it: its kind and every key of its look's parameters.
+fn look_section(preset: &Preset) -> Result<LookSection> {
+    let given = &preset.file.look;
+    let mut look = LookSection {
+        kind: Some(given.kind.clone().unwrap_or(Look::DEFAULT_NAME.into())),
+        ..LookSection::default()
     };
     match preset.look()? {
         Look::Mosaic(p) => {
@@ -135,28 +163,7 @@ pub fn full(preset: &Preset) -> Result<PresetFile> {
             look.flat_angle = Some(p.flat_angle);
         }
     }
-    let file = PresetFile {
-        description: preset.file.description.clone(),
-        extends: None,
-        metric: MetricSection {
-            min_size: Some(m.min_size),
-            max_size: Some(m.max_size),
-            max_anisotropy: Some(m.max_anisotropy),
-            gradation: Some(m.gradation),
-            smoothing: Some(m.smoothing),
-            detail_quantile: Some(m.detail_quantile),
-        },
-        sampler: SamplerSection {
-            iterations: Some(s.iterations),
-            seed: Some(s.seed),
-            seeding: Some(s.seeding.name().to_string()),
-        },
-        cells,
-        outlines,
-        highlights,
-        look,
-    };
-    only_what_the_look_reads(&file)
+    Ok(look)
 }
 
 /// `file` without the keys its look does not read (the cells', outlines' and highlights' keys
