@@ -218,28 +218,13 @@ pub(super) fn relax_once(
     } = particles;
     let (positions_now, squares_now, motion_now): (&[DVec2], &[Tensor], &[u8]) =
         (positions, squares, motion);
-    if edge_forces.len() != edges.ends.len() {
-        // A new, exact buffer: a million particles have three million edges, and a grown one
-        // would double.
-        *edge_forces = vec![DVec2::ZERO; edges.ends.len()];
-    }
-    edge_forces
-        .par_iter_mut()
-        .zip(edges.ends.par_iter())
-        .for_each(|(f, &[a, b])| {
-            let (a, b) = (a as usize, b as usize);
-            if !fresh && (motion_now[a] | motion_now[b]) & MOVED == 0 {
-                return;
-            }
-            let (pa, pb) = (positions_now[a], positions_now[b]);
-            let d = distance::contact_distance_of_squares(pa, &squares_now[a], pb, &squares_now[b]);
-            // Force on a: S·f(d)·ŷ·d_opt with ŷ·d_opt = (y/|y|)·(|y|/d) = y/d.
-            *f = if d > 0.0 {
-                (pa - pb) * (dyn_.scale * force_spline(d) / d)
-            } else {
-                DVec2::ZERO
-            };
-        });
+    update_edge_forces(
+        edge_forces,
+        edges,
+        (positions_now, squares_now, motion_now),
+        dyn_.scale,
+        fresh,
+    );
     let edge_forces: &[DVec2] = edge_forces;
     // One pass per particle: gather the edge forces, integrate, and look the metric up again
     // when the particle has moved more than a small fraction of its size since the last
@@ -309,8 +294,53 @@ pub(super) fn relax_once(
             },
         )
         .reduce(|| (0.0, 0.0), |a, b| (a.0.max(b.0), a.1.max(b.1)));
-    // Who is awake next: the restless, and whoever has a neighbour that moved. A particle
-    // that falls asleep keeps no velocity.
+    wake(motion, next_motion, velocities, edges, fixed);
+    largest
+}
+
+/// The force along every edge, `S·f(d)·y/d` on its first end (`scale` = S), from the particles'
+/// `(positions, squared metrics, motion flags)`; with `fresh` unset, only edges with an end
+/// that moved are computed again (the others' forces stand). The buffer is made anew, exactly
+/// sized, when the edges changed in number (a million particles have three million edges, and
+/// a grown buffer would double).
+fn update_edge_forces(
+    edge_forces: &mut Vec<DVec2>,
+    edges: &Edges,
+    (positions, squares, motion): (&[DVec2], &[Tensor], &[u8]),
+    scale: f64,
+    fresh: bool,
+) {
+    if edge_forces.len() != edges.ends.len() {
+        *edge_forces = vec![DVec2::ZERO; edges.ends.len()];
+    }
+    edge_forces
+        .par_iter_mut()
+        .zip(edges.ends.par_iter())
+        .for_each(|(f, &[a, b])| {
+            let (a, b) = (a as usize, b as usize);
+            if !fresh && (motion[a] | motion[b]) & MOVED == 0 {
+                return;
+            }
+            let (pa, pb) = (positions[a], positions[b]);
+            let d = distance::contact_distance_of_squares(pa, &squares[a], pb, &squares[b]);
+            // Force on a: S·f(d)·ŷ·d_opt with ŷ·d_opt = (y/|y|)·(|y|/d) = y/d.
+            *f = if d > 0.0 {
+                (pa - pb) * (scale * force_spline(d) / d)
+            } else {
+                DVec2::ZERO
+            };
+        });
+}
+
+/// Who is awake next (into `motion`, through the scratch `next_motion`): the restless, and
+/// whoever has a neighbour that moved. A free particle that falls asleep keeps no velocity.
+fn wake(
+    motion: &mut Vec<u8>,
+    next_motion: &mut Vec<u8>,
+    velocities: &mut [DVec2],
+    edges: &Edges,
+    fixed: usize,
+) {
     let motion_now: &[u8] = motion;
     next_motion.resize(motion_now.len(), 0);
     next_motion[fixed..]
@@ -331,7 +361,6 @@ pub(super) fn relax_once(
             };
         });
     std::mem::swap(motion, next_motion);
-    largest
 }
 
 /// Between the regular repairs, the triangulation is repaired as soon as some particle has moved
