@@ -156,6 +156,21 @@ pub fn load_field_observed(
     }
 }
 
+/// A tensor field already in memory (`(t11, t12, t22)` per node, as a `.npy` file holds it)
+/// turned into a metric as such a file is: taken as it is when every tensor is positive
+/// definite (or `options.tensor_kind` says it is a metric), else mapped by the paper's
+/// anti-symmetric mapping (`options.mapping`).
+pub fn tensor_field(raw: TensorField, options: &FieldOptions) -> Result<LoadedField> {
+    validate_mapping(&options.mapping)?;
+    let raw = Arc::new(raw);
+    let metric = tensor_file_metric(Path::new("tensor field"), &raw, options)?;
+    Ok(LoadedField {
+        metric,
+        raw,
+        photo: None,
+    })
+}
+
 /// A photo already in memory turned into a metric (`params` must be valid); the photo is
 /// kept as the renderers read it ([`flatten_on_paper`]).
 #[must_use]

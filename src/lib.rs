@@ -44,3 +44,11 @@ pub mod sampling;
 pub mod style;
 
 pub use error::{Error, Result};
+// What a library user needs first: load a style, load or make a field, paint (or sample and
+// draw), save.
+pub use input::{load_field, photo_field, tensor_field, FieldOptions, Input, LoadedField};
+pub use paint::{
+    draw, paint, sample, save_painting, Extras, PaintRecord, Painting, Recipe, Samples,
+};
+pub use render::{Look, RenderSize};
+pub use style::{load as load_style, Preset};
