@@ -5,7 +5,7 @@
 //! The data flows through the modules in order: [`input`] (photos, `.npy` fields, analytic
 //! fields) → [`field`] (tensors, structure tensor, metric) → [`sampling`] (seeding, forces,
 //! anisotropic Delaunay, population control, quality) → [`render`] (Voronoi cells, mosaics,
-//! textures, glyphs, fabric) → [`paint`], the one pipeline every command uses; [`style`]
+//! textures, glyphs, fabric) → [`paint`](mod@paint), the one pipeline every command uses; [`style`]
 //! describes presets, `cli` (feature `cli`, on by default) is the command line. [`io`] reads
 //! and writes files atomically; [`batch`] plans and runs folder batches; [`progress`] carries
 //! stage reports to the CLI's bars; [`error`] is the one error type.

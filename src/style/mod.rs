@@ -1,12 +1,11 @@
 //! Style presets describe a painting; they run nothing. A preset is a TOML file holding every
-//! parameter of the chain (metric, sampler, look): [`preset`] loads it (built-ins compiled in
-//! from `styles/`, `extends` chains, `--set key.path=value` overrides, errors with file, line
-//! and column), [`convert`] turns its keys into the library's parameter structs and the
+//! parameter of the chain (metric, sampler, look): [`preset`] loads it (built-ins compiled in from
+//! `styles/`, `extends` chains, `--set key.path=value` overrides, errors with file, line and
+//! column), [`convert`] turns its keys into the library's parameter structs and the
 //! [`Look`](crate::render::Look), [`full`] writes a preset out with every key it paints with,
-//! [`sheet`] lists the variants of a contact sheet. Lengths in
-//! `[metric]` are fractions of the image diagonal, as in
-//! [`MetricParams`](crate::field::MetricParams). [`crate::paint`] runs the chain a preset
-//! describes.
+//! [`sheet`] lists the variants of a contact sheet. Lengths in `[metric]` are fractions of the
+//! image diagonal, as in [`MetricParams`](crate::field::MetricParams).
+//! [`crate::paint`](mod@crate::paint) runs the chain a preset describes.
 
 pub mod convert;
 pub mod full;
