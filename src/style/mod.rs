@@ -1,7 +1,9 @@
 //! Style presets describe a painting; they run nothing. A preset is a TOML file holding every
-//! parameter of the chain (metric, sampler, look): [`preset`] loads it (built-ins compiled in from
-//! `styles/`, `extends` chains, `--set key.path=value` overrides, errors with file, line and
-//! column), [`convert`] turns its keys into the library's parameter structs and the
+//! parameter of the chain (metric, sampler, cells, outlines, highlights, look): [`schema`]
+//! declares every key once (what it takes, which looks read it, what it does), [`preset`]
+//! loads a preset and checks it against the schema (built-ins compiled in from `styles/`,
+//! `extends` chains, `--set key.path=value` overrides, errors with file, line and column and
+//! the nearest key), [`convert`] turns its keys into the library's parameter structs and the
 //! [`Look`](crate::render::Look), [`full`] writes a preset out with every key it paints with,
 //! [`sheet`] lists the variants of a contact sheet. Lengths in `[metric]` are fractions of the
 //! image diagonal, as in [`MetricParams`](crate::field::MetricParams).
