@@ -10,7 +10,6 @@ use crate::error::{Error, Result};
 use crate::input::Input;
 use crate::paint::{paint_observed, save_painting, Extras, PaintRecord, Recipe};
 use crate::progress::{timed, Stage};
-use crate::render::Look;
 use clap::{Args, Subcommand};
 use image::DynamicImage;
 use std::path::PathBuf;
@@ -177,12 +176,7 @@ pub(super) fn run_styles(args: &StylesArgs) -> Result<()> {
 /// The keys `preset`'s look reads as aligned text: key, what it takes, value, what it does.
 fn keys_table(preset: &crate::style::Preset) -> Result<String> {
     let rows = crate::style::key_values(preset)?;
-    let kind = preset
-        .file
-        .look
-        .kind
-        .as_deref()
-        .unwrap_or(Look::DEFAULT_NAME);
+    let kind = preset.file.look_kind();
     let mut out = format!(
         "# {} ({kind}): the keys its look reads, the value it paints with, what each takes\n",
         preset.name

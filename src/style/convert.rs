@@ -192,8 +192,7 @@ impl Preset {
 
     /// The look with the preset's parameters.
     pub fn look(&self) -> Result<Look> {
-        let l = &self.file.look;
-        let kind = l.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
+        let kind = self.file.look_kind();
         let mut look = named("look.kind", kind, Look::named, &Look::NAMES)?;
         self.configure(&mut look)?;
         Ok(look)

@@ -64,6 +64,14 @@ pub struct PresetFile {
     pub look: LookSection,
 }
 
+impl PresetFile {
+    /// The look's kind: `look.kind`, or the default look's.
+    #[must_use]
+    pub fn look_kind(&self) -> &str {
+        self.look.kind.as_deref().unwrap_or(Look::DEFAULT_NAME)
+    }
+}
+
 /// `[cells]`: which cells the look paints (see [`schema::KEYS`] for each key).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -266,13 +274,9 @@ fn unknown_key(section: &str, name: &str, kind: &str) -> String {
     }
     let mut message = match schema::key_at(&path) {
         Some(key) => {
-            let readers: Vec<&str> = Look::NAMES
-                .into_iter()
-                .filter(|k| key.readers.include(k))
-                .collect();
             format!(
                 "{section}.{name} is not read by the {kind} look (only by {})",
-                readers.join(", ")
+                key.readers.looks().join(", ")
             )
         }
         None => format!("unknown key {section}.{name}"),
@@ -292,7 +296,7 @@ fn unknown_key(section: &str, name: &str, kind: &str) -> String {
 
 /// Fails when `file` sets a key its look does not read, naming the nearest one it does.
 fn check_look_keys(file: &PresetFile, origin: &str) -> Result<()> {
-    let kind = file.look.kind.as_deref().unwrap_or(Look::DEFAULT_NAME);
+    let kind = file.look_kind();
     if !Look::NAMES.contains(&kind) {
         return Ok(()); // the conversion names the bad kind and the good ones
     }
@@ -410,12 +414,7 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
         // The line and column `parse` would give point into this one-line text, not
         // anything the user wrote: the override itself is named instead.
         let over: PresetFile = toml::from_str(&text).map_err(|e| {
-            let kind = preset
-                .file
-                .look
-                .kind
-                .as_deref()
-                .unwrap_or(Look::DEFAULT_NAME);
+            let kind = preset.file.look_kind();
             let message = match e.message().strip_prefix("unknown field `") {
                 Some(_) => unknown_key(section, field, kind),
                 None => e.message().replace('\n', " "),
@@ -431,11 +430,11 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
 /// `over`'s keys over `base`'s. Where `over` changes the look's kind, `base`'s keys that the
 /// new look does not read are left behind, so a preset can switch look with one key.
 pub fn merge(base: PresetFile, over: PresetFile) -> Result<PresetFile> {
-    let old_kind = base.look.kind.clone();
+    let old_kind = base.look_kind().to_string();
     let mut merged = table(&base)?;
     merged.remove("extends");
     match &over.look.kind {
-        Some(kind) if old_kind.as_deref().unwrap_or(Look::DEFAULT_NAME) != kind => {
+        Some(kind) if old_kind != *kind => {
             for (section, keys) in merged.iter_mut() {
                 if let toml::Value::Table(keys) = keys {
                     keys.retain(|name, _| {

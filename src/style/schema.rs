@@ -65,12 +65,12 @@ impl Value {
 }
 
 /// Which looks read a key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub enum Readers {
     /// Every look.
     All,
-    /// Only these look kinds (names as `look.kind` takes them).
-    Only(&'static [&'static str]),
+    /// The look kinds (names as `look.kind` takes them) for which this says yes.
+    Only(fn(&str) -> bool),
 }
 
 impl Readers {
@@ -79,13 +79,22 @@ impl Readers {
     pub fn include(&self, kind: &str) -> bool {
         match self {
             Readers::All => true,
-            Readers::Only(kinds) => kinds.contains(&kind),
+            Readers::Only(reads) => reads(kind),
         }
+    }
+
+    /// The looks that read the key, in [`Look::NAMES`]' order.
+    #[must_use]
+    pub fn looks(&self) -> Vec<&'static str> {
+        Look::NAMES
+            .into_iter()
+            .filter(|k| self.include(k))
+            .collect()
     }
 }
 
 /// One key of a preset.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct Key {
     /// `section.name`, as `--set` takes it.
     pub path: &'static str,
@@ -111,47 +120,55 @@ impl Key {
     }
 }
 
-const TEXTURES: &[&str] = &["hatch", "crosshatch", "line", "stroke", "stipple"];
-const CELL_LOOKS: &[&str] = &[
-    "mosaic",
-    "hatch",
-    "crosshatch",
-    "line",
-    "stroke",
-    "stipple",
-    "glyphs",
-];
-const ONE_INK: &[&str] = &["hatch", "crosshatch", "engraving"];
-const TONE_LINES: &[&str] = &[
-    "hatch",
-    "crosshatch",
-    "line",
-    "stroke",
-    "stipple",
-    "engraving",
-];
-const FLAT_ANGLE: &[&str] = &[
-    "hatch",
-    "crosshatch",
-    "line",
-    "stroke",
-    "stipple",
-    "glyphs",
-    "engraving",
-    "fabric",
-    "lic",
-];
-const BORDERED: &[&str] = &["mosaic", "hatch", "crosshatch", "line", "stroke", "stipple"];
-const BORDER_COLOUR: &[&str] = &["mosaic", "glyphs"];
-const INKED: &[&str] = &[
-    "hatch",
-    "crosshatch",
-    "line",
-    "stroke",
-    "stipple",
-    "engraving",
-];
-const FABRICS: &[&str] = &["fabric", "lic"];
+/// The textured looks: lines or dots in each cell's frame.
+fn textures(kind: &str) -> bool {
+    matches!(kind, "hatch" | "crosshatch" | "line" | "stroke" | "stipple")
+}
+
+/// The looks that paint cells (fabric, LIC and the engraving draw across them).
+fn cell_looks(kind: &str) -> bool {
+    kind == "mosaic" || textures(kind) || kind == "glyphs"
+}
+
+/// The looks of one ink over paper in the photo's tone.
+fn one_ink(kind: &str) -> bool {
+    matches!(kind, "hatch" | "crosshatch" | "engraving")
+}
+
+/// The looks of lines or dots in ink.
+fn inked(kind: &str) -> bool {
+    textures(kind) || kind == "engraving"
+}
+
+/// The looks that lay their lines, strokes or threads at an angle where the field has none.
+fn with_flat_angle(kind: &str) -> bool {
+    inked(kind) || matches!(kind, "glyphs" | "fabric" | "lic")
+}
+
+/// The looks with borders between cells.
+fn bordered(kind: &str) -> bool {
+    kind == "mosaic" || textures(kind)
+}
+
+fn mosaic(kind: &str) -> bool {
+    kind == "mosaic"
+}
+
+fn glyphs(kind: &str) -> bool {
+    kind == "glyphs"
+}
+
+fn mosaic_or_glyphs(kind: &str) -> bool {
+    mosaic(kind) || glyphs(kind)
+}
+
+fn engraving(kind: &str) -> bool {
+    kind == "engraving"
+}
+
+fn fabrics(kind: &str) -> bool {
+    matches!(kind, "fabric" | "lic")
+}
 
 const fn number(min: f64, max: f64) -> Value {
     Value::Number { min, max }
@@ -198,46 +215,46 @@ pub const KEYS: &[Key] = &[
     key("sampler.iterations", Value::Integer { min: 0, max: 10_000 }, All, "relaxation iterations of the particle sampler (the paper never needed over 1 000)"),
     key("sampler.seed", Value::Integer { min: 0, max: u64::MAX }, All, "seed of every random choice (the same seed, the same picture)"),
     key("sampler.seeding", Value::Choice(&["auto", "lattice", "darts"]), All, "how samples are seeded: a metric-aligned lattice, the paper's dart throwing, or by size"),
-    key("cells.kind", Value::Choice(&["edges", "voronoi"]), Only(CELL_LOOKS), "cells that stop at the photo's edges, or the paper's Voronoi cells"),
-    key("cells.colour_weight", number(0.0, 1e6), Only(CELL_LOOKS), "weight of colour against distance in edge-following cells"),
-    key("cells.iterations", Value::Integer { min: 0, max: 20 }, Only(CELL_LOOKS), "assign-and-move rounds of edge-following cells"),
-    key("cells.reach", number(0.0, f64::INFINITY), Only(CELL_LOOKS), "how far past the paper's border an edge-following cell may reach, in ellipse radii"),
-    key("cells.blur_px", number(0.0, 20.0), Only(CELL_LOOKS), "blur (photo pixels) of the colours edge-following cells compare"),
+    key("cells.kind", Value::Choice(&["edges", "voronoi"]), Only(cell_looks), "cells that stop at the photo's edges, or the paper's Voronoi cells"),
+    key("cells.colour_weight", number(0.0, 1e6), Only(cell_looks), "weight of colour against distance in edge-following cells"),
+    key("cells.iterations", Value::Integer { min: 0, max: 20 }, Only(cell_looks), "assign-and-move rounds of edge-following cells"),
+    key("cells.reach", number(0.0, f64::INFINITY), Only(cell_looks), "how far past the paper's border an edge-following cell may reach, in ellipse radii"),
+    key("cells.blur_px", number(0.0, 20.0), Only(cell_looks), "blur (photo pixels) of the colours edge-following cells compare"),
     key("cells.supersample", Value::Integer { min: 1, max: 4 }, All, "raster points per pixel along each axis where a border crosses it"),
     key("outlines.strength", UNIT, All, "ink of the outlines along the photo's edges (0: none)"),
     key("outlines.scale", number(0.25, 4.0), All, "width of the outlines against the default"),
     key("outlines.ink", Value::ColourOr(&["pixel"]), All, "the outlines' ink: a colour, or the photo's colour under each point"),
-    key("highlights.strength", UNIT, Only(ONE_INK), "paper laid along the photo's thin light lines (0: none)"),
+    key("highlights.strength", UNIT, Only(one_ink), "paper laid along the photo's thin light lines (0: none)"),
     key("look.kind", Value::Choice(&Look::NAMES), All, "which look paints the cells"),
-    key("look.border_width", WIDTH_PX, Only(BORDERED), "width of the borders between cells, in pixels of a one-megapixel picture"),
-    key("look.border_colour", Value::Colour, Only(BORDER_COLOUR), "colour of the mosaic's leading, or of the glyphs' outlines"),
-    key("look.relief", UNIT, Only(&["mosaic"]), "how strongly each tessera is lit as a dome, from the upper left"),
-    key("look.jitter", UNIT, Only(&["mosaic"]), "random brightness change of each tessera"),
-    key("look.lines_per_cell", number(0.1, 100.0), Only(TEXTURES), "lines (or dot rows) across a cell's short axis"),
-    key("look.min_spacing_px", number(0.5, 200.0), Only(&["hatch", "crosshatch", "line", "stroke", "stipple", "engraving"]), "least distance between lines or dot rows, in output pixels"),
-    key("look.ink", Value::ColourOr(&["black", "cell", "pixel"]), Only(INKED), "the ink: black, a colour, the cell's colour or the photo's colour under each point"),
-    key("look.ink_darken", UNIT, Only(TEXTURES), "how much cell or pixel ink is darkened"),
-    key("look.paper", Value::Colour, Only(INKED), "the paper's colour"),
-    key("look.gamma", number(0.05, 20.0), Only(TONE_LINES), "tone curve of the ink (1: the photo's tones as they are)"),
-    key("look.fade_anisotropy", number(0.0, 100.0), Only(TEXTURES), "anisotropy under which a cell counts as having no direction"),
-    key("look.texture", Value::Path, Only(TEXTURES), "a greyscale tile (dark = ink) spanning one cell"),
-    key("look.placement", Value::Choice(&["relaxed", "grid", "random"]), Only(&["glyphs"]), "where glyphs go: at the samples, on a grid or at random"),
-    key("look.shape", Value::Shape, Only(&["glyphs"]), "the glyph's outline"),
-    key("look.underpaint", Value::Bool, Only(&["glyphs"]), "paint the cells in their colours under the glyphs"),
-    key("look.ground", UNIT, Only(&["glyphs"]), "how much of its cell's colour the ground under a glyph takes"),
-    key("look.refine", UNIT, Only(&["glyphs"]), "canvas-to-photo difference above which finer and detail strokes are laid"),
-    key("look.glyph_scale", number(0.05, 4.0), Only(&["glyphs"]), "glyph size against its ellipse"),
-    key("look.outline_width", WIDTH_PX, Only(&["glyphs"]), "width of each glyph's outline, in pixels"),
-    key("look.background", Value::Colour, Only(&["glyphs"]), "colour behind the glyphs"),
-    key("look.kernel_px", number(1.0, 100.0), Only(FABRICS), "length of the line integral convolution, in pixels of a one-megapixel picture"),
-    key("look.cross_weight", UNIT, Only(FABRICS), "weight of the threads across the field's direction"),
-    key("look.thickness", number(0.01, 2.0), Only(FABRICS), "thread thickness against the ellipse's short axis"),
-    key("look.contrast", UNIT, Only(FABRICS), "how far the threads move the photo's luma"),
-    key("look.line_spacing", number(0.0005, 0.2), Only(&["engraving"]), "distance between the engraving's lines, as a share of the diagonal"),
-    key("look.edge_break", number(0.0, 10.0), Only(&["engraving"]), "lightness step over one spacing along a line that breaks it"),
-    key("look.flat_angle", ANGLE, Only(FLAT_ANGLE), "direction (degrees) of lines, strokes or threads where the field has none"),
-    key("look.cell_tone", Value::Bool, Only(TEXTURES), "one tone per cell (the paper's) instead of the photo's tone point by point"),
-    key("look.tone", UNIT, Only(&["engraving"]), "lightness of a tensor field engraved without a photo"),
+    key("look.border_width", WIDTH_PX, Only(bordered), "width of the borders between cells, in pixels of a one-megapixel picture"),
+    key("look.border_colour", Value::Colour, Only(mosaic_or_glyphs), "colour of the mosaic's leading, or of the glyphs' outlines"),
+    key("look.relief", UNIT, Only(mosaic), "how strongly each tessera is lit as a dome, from the upper left"),
+    key("look.jitter", UNIT, Only(mosaic), "random brightness change of each tessera"),
+    key("look.lines_per_cell", number(0.1, 100.0), Only(textures), "lines (or dot rows) across a cell's short axis"),
+    key("look.min_spacing_px", number(0.5, 200.0), Only(inked), "least distance between lines or dot rows, in output pixels"),
+    key("look.ink", Value::ColourOr(&["black", "cell", "pixel"]), Only(inked), "the ink: black, a colour, the cell's colour or the photo's colour under each point"),
+    key("look.ink_darken", UNIT, Only(textures), "how much cell or pixel ink is darkened"),
+    key("look.paper", Value::Colour, Only(inked), "the paper's colour"),
+    key("look.gamma", number(0.05, 20.0), Only(inked), "tone curve of the ink (1: the photo's tones as they are)"),
+    key("look.fade_anisotropy", number(0.0, 100.0), Only(textures), "anisotropy under which a cell counts as having no direction"),
+    key("look.texture", Value::Path, Only(textures), "a greyscale tile (dark = ink) spanning one cell"),
+    key("look.placement", Value::Choice(&["relaxed", "grid", "random"]), Only(glyphs), "where glyphs go: at the samples, on a grid or at random"),
+    key("look.shape", Value::Shape, Only(glyphs), "the glyph's outline"),
+    key("look.underpaint", Value::Bool, Only(glyphs), "paint the cells in their colours under the glyphs"),
+    key("look.ground", UNIT, Only(glyphs), "how much of its cell's colour the ground under a glyph takes"),
+    key("look.refine", UNIT, Only(glyphs), "canvas-to-photo difference above which finer and detail strokes are laid"),
+    key("look.glyph_scale", number(0.05, 4.0), Only(glyphs), "glyph size against its ellipse"),
+    key("look.outline_width", WIDTH_PX, Only(glyphs), "width of each glyph's outline, in pixels"),
+    key("look.background", Value::Colour, Only(glyphs), "colour behind the glyphs"),
+    key("look.kernel_px", number(1.0, 100.0), Only(fabrics), "length of the line integral convolution, in pixels of a one-megapixel picture"),
+    key("look.cross_weight", UNIT, Only(fabrics), "weight of the threads across the field's direction"),
+    key("look.thickness", number(0.01, 2.0), Only(fabrics), "thread thickness against the ellipse's short axis"),
+    key("look.contrast", UNIT, Only(fabrics), "how far the threads move the photo's luma"),
+    key("look.line_spacing", number(0.0005, 0.2), Only(engraving), "distance between the engraving's lines, as a share of the diagonal"),
+    key("look.edge_break", number(0.0, 10.0), Only(engraving), "lightness step over one spacing along a line that breaks it"),
+    key("look.flat_angle", ANGLE, Only(with_flat_angle), "direction (degrees) of lines, strokes or threads where the field has none"),
+    key("look.cell_tone", Value::Bool, Only(textures), "one tone per cell (the paper's) instead of the photo's tone point by point"),
+    key("look.tone", UNIT, Only(engraving), "lightness of a tensor field engraved without a photo"),
 ];
 
 /// The key at `path` (`section.name`).
@@ -311,7 +328,7 @@ pub fn reference_markdown() -> String {
         }
         let readers = match k.readers {
             Readers::All => "every look".to_string(),
-            Readers::Only(kinds) => kinds.join(", "),
+            Readers::Only(_) => k.readers.looks().join(", "),
         };
         out.push_str(&format!(
             "| `{}` | {} | {readers} | {} |\n",
@@ -356,11 +373,6 @@ mod tests {
                 "{} is read by no look",
                 k.path
             );
-            if let Readers::Only(kinds) = k.readers {
-                for kind in kinds {
-                    assert!(Look::NAMES.contains(kind), "{}: no look {kind}", k.path);
-                }
-            }
         }
     }
 
