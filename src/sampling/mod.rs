@@ -224,25 +224,11 @@ pub fn sample_observed(
         } else {
             schedule.control_every
         };
-        if it > 0 && every > 0 && it % every == 0 {
-            mesh = if settling {
-                repair(mesh, &mut particles, field, &mut stats)
-            } else {
-                // Population control reads fill rates and one-rings of the current mesh,
-                // which must still be a valid triangulation of the moved particles.
-                if !mesh.is_valid_at(&particles.positions) && !undo_turnovers(&mesh, &mut particles)
-                {
-                    mesh = rebuild(&mut particles, field, &mut stats);
-                    renew_edges(&mut edges, &mesh, particles.positions.len());
-                }
-                // `edges` are the current mesh's: the relaxation moves particles, not edges.
-                control_population(mesh, &edges, &mut particles, field, params, &mut stats)
-            };
-            renew_edges(&mut edges, &mesh, particles.positions.len());
-            fresh = true;
-        } else if drift > REPAIR_DRIFT {
-            mesh = repair(mesh, &mut particles, field, &mut stats);
-            renew_edges(&mut edges, &mesh, particles.positions.len());
+        let due = it > 0 && every > 0 && it % every == 0;
+        if due || drift > REPAIR_DRIFT {
+            let control = due && !settling;
+            let state = (&mut particles, &mut edges, &mut stats);
+            mesh = maintained(mesh, state, field, params, control);
             fresh = true;
         }
         let t = Instant::now();
@@ -279,6 +265,32 @@ pub fn sample_observed(
         mesh,
         stats,
     })
+}
+
+/// `mesh` made right again for the moved particles, and `edges` renewed from it: with
+/// `control`, the population controlled (on a mesh that must still triangulate the moved
+/// particles: turned triangles taken back, else rebuilt, since fill rates and one-rings are
+/// read from it); otherwise repaired where particles moved.
+fn maintained(
+    mesh: AnisotropicDelaunay,
+    (particles, edges, stats): (&mut Particles, &mut Edges, &mut Stats),
+    field: &TensorField,
+    params: &SamplerParams,
+    control: bool,
+) -> AnisotropicDelaunay {
+    let mesh = if control {
+        let mut mesh = mesh;
+        if !mesh.is_valid_at(&particles.positions) && !undo_turnovers(&mesh, particles) {
+            mesh = rebuild(particles, field, stats);
+            renew_edges(edges, &mesh, particles.positions.len());
+        }
+        // `edges` are the current mesh's: the relaxation moves particles, not edges.
+        control_population(mesh, edges, particles, field, params, stats)
+    } else {
+        repair(mesh, particles, field, stats)
+    };
+    renew_edges(edges, &mesh, particles.positions.len());
+    mesh
 }
 
 /// The seeding `chosen` resolves to for a metric of `survey`: `Auto` takes the lattice for
