@@ -2,7 +2,7 @@
 //! `[highlights]` and `[look]` of optional keys,
 //! the built-in presets and textures compiled in from `styles/`, loading down an `extends`
 //! chain, and `--set key.path=value` overrides checked like preset lines. Every section
-//! accepts only its own keys (serde's `deny_unknown_fields`), and `[look]` only those its look
+//! accepts only its own keys (serde's `deny_unknown_fields`), and only those the preset's look
 //! reads ([`schema`]): an unknown key or a wrong type is an error naming the file, line and
 //! column, and for a key the look does not read, the nearest one it does.
 
@@ -343,8 +343,8 @@ pub fn built_in(name: &str) -> Option<&'static str> {
     BUILT_IN.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
 }
 
-/// Loads `style` (a built-in name, or a path to a `.toml` file), following `extends`. A look key
-/// the preset's look does not read is an error (keys inherited from a preset of another look
+/// Loads `style` (a built-in name, or a path to a `.toml` file), following `extends`. A key the
+/// preset's look does not read is an error (keys inherited from a preset of another look
 /// are dropped where the kind changes: see [`merge`]).
 pub fn load(style: &str) -> Result<Preset> {
     let preset = load_chain(style, 0)?;
