@@ -19,9 +19,9 @@
 //! The default threshold, 0.3, is about six neighbours at `d ≈ 0.88`: it never fires in a
 //! constant field and thins the knots of a singular one (the centre of `circular`).
 
+use super::delaunay::edges::Edges;
 use super::delaunay::AnisotropicDelaunay;
 use super::distance::{contact_distance_of_squares, normalised_distance};
-use super::edges::Edges;
 use super::force::force_spline;
 use crate::field::{Tensor, TensorField};
 use glam::DVec2;

@@ -5,8 +5,8 @@
 //! over are taken back first, [`undo_turnovers`]); population control at the repairs
 //! ([`control_population`]: fill-rate insertion, pressure deletion).
 
+use super::delaunay::edges::Edges;
 use super::delaunay::AnisotropicDelaunay;
-use super::edges::Edges;
 use super::params::SamplerParams;
 use super::particles::{Particles, AWAKE, MOVED, QUIET, SLEEP, STIRRED};
 use super::{distance, force_spline, population, Stats};

@@ -5,7 +5,7 @@
 //! A fresh build of the whole mesh for each round that deleted a sample or two would cost up
 //! to a fifth of a run.
 
-use super::delaunay::{next, orient, prev, AnisotropicDelaunay, NONE};
+use super::{next, orient, prev, AnisotropicDelaunay, NONE};
 use crate::field::TensorField;
 use glam::DVec2;
 
@@ -203,7 +203,7 @@ fn ear_clipping(ring: &[u32], points: &[DVec2]) -> Option<Vec<[usize; 3]>> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::delaunay::tests::{edge_set, random_points};
+    use super::super::tests::{edge_set, random_points};
     use super::*;
     use crate::field::Tensor;
     use std::collections::BTreeSet;

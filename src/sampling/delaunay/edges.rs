@@ -3,7 +3,7 @@
 //! rows, so the force of each pair is computed once and gathered per particle in a fixed
 //! order (the same result at any thread count).
 
-use super::delaunay::{AnisotropicDelaunay, NONE};
+use super::{AnisotropicDelaunay, NONE};
 
 /// The edges of a mesh: `ends[e]` are edge `e`'s vertices; the edges at vertex `v` are
 /// `incident[offsets[v]..offsets[v + 1]]`, each `e << 1 | side` with side 0 when `v` is

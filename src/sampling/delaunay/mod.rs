@@ -11,6 +11,9 @@
 //! capped and cap hits are counted. For a constant metric the result is the Delaunay
 //! triangulation of the points mapped by `m⁻¹`, which the tests check against spade itself.
 
+pub mod edges;
+mod removal;
+
 use crate::field::TensorField;
 use glam::DVec2;
 use rayon::prelude::*;
