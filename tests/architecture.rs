@@ -338,7 +338,10 @@ fn looks_never_import_each_other() {
 #[test]
 fn no_folder_is_a_heap() {
     let mut files = Vec::new();
-    rust_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
+    rust_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &mut files,
+    );
     let mut per_folder: BTreeMap<PathBuf, usize> = BTreeMap::new();
     for f in files {
         *per_folder
