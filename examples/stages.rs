@@ -6,9 +6,12 @@
 //! cargo run --release --example stages -- samples/chelsea.png
 //! ```
 
+use anisopaint::io::{save_image, write_text};
 use anisopaint::progress::Silent;
 use anisopaint::style::apply_sets;
 use anisopaint::{draw, load_field, load_style, sample, Extras, Input, Recipe, RenderSize};
+use image::DynamicImage;
+use std::path::Path;
 
 fn main() -> anisopaint::Result<()> {
     let Some(photo) = std::env::args().nth(1) else {
@@ -38,12 +41,10 @@ fn main() -> anisopaint::Result<()> {
         apply_sets(&mut preset, &sets)?;
         let recipe = Recipe::from_preset(&preset, Default::default(), Some(3))?;
         let painting = draw(&loaded, &samples, &recipe, size, extras, &Silent)?;
-        painting
-            .image
-            .save(format!("stages-{name}.png"))
-            .map_err(|e| anisopaint::Error::param("output", e.to_string()))?;
+        let png = format!("stages-{name}.png");
+        save_image(Path::new(&png), &DynamicImage::ImageRgb8(painting.image))?;
         if let Some(svg) = painting.svg {
-            anisopaint::io::write_text(std::path::Path::new(&format!("stages-{name}.svg")), &svg)?;
+            write_text(Path::new(&format!("stages-{name}.svg")), &svg)?;
         }
         println!("wrote stages-{name}.png and .svg");
     }

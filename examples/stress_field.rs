@@ -7,7 +7,10 @@
 //! ```
 
 use anisopaint::field::{Tensor, TensorField};
+use anisopaint::io::save_image;
 use anisopaint::{load_style, paint::paint_loaded, tensor_field, Extras, Recipe};
+use image::DynamicImage;
+use std::path::Path;
 
 /// Stress under a unit point load at `(x0, 0)` on the surface `y = 0` of a half plane (polar
 /// form: a purely radial stress `−2P cos θ / (π r)`).
@@ -33,10 +36,7 @@ fn main() -> anisopaint::Result<()> {
             &anisopaint::progress::Silent,
         )?;
         let out = format!("stress-{style}.png");
-        painting
-            .image
-            .save(&out)
-            .map_err(|e| anisopaint::Error::param("output", e.to_string()))?;
+        save_image(Path::new(&out), &DynamicImage::ImageRgb8(painting.image))?;
         println!("wrote {out}");
     }
     Ok(())

@@ -94,25 +94,32 @@ fn styles_keys_lists_what_the_look_reads_and_a_slip_gets_a_suggestion() {
     // Another look's keys through --set.
     let fabric = text(&["styles", "keys", "--set", "look.kind=fabric"]);
     assert!(fabric.contains("look.kernel_px") && !fabric.contains("look.border_width"));
-    // A slip: exit 2, one line, the nearest key of that look.
-    let run = bin()
-        .args(["paint", "samples/chelsea.png", "-s", "pen-hatch", "-o", "-"])
-        .args(["--set", "look.lines_per_cel=3"])
-        .assert()
-        .code(2);
-    let stderr = common::stderr_of(&run);
+    // What `paint -s STYLE --set SET` says on standard error (it must exit 2).
+    let refused = |style: &str, set: &str| {
+        let run = bin()
+            .args([
+                "paint",
+                "samples/chelsea.png",
+                "-s",
+                style,
+                "-o",
+                "-",
+                "--set",
+                set,
+            ])
+            .assert()
+            .code(2);
+        common::stderr_of(&run)
+    };
+    // A slip: one line, the nearest key of that look.
+    let stderr = refused("pen-hatch", "look.lines_per_cel=3");
     assert!(
         stderr.contains("did you mean look.lines_per_cell?"),
         "{stderr}"
     );
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
     // A key another look reads: which looks read it, and what this one reads.
-    let run = bin()
-        .args(["paint", "samples/chelsea.png", "-s", "mosaic", "-o", "-"])
-        .args(["--set", "look.lines_per_cell=3"])
-        .assert()
-        .code(2);
-    let stderr = common::stderr_of(&run);
+    let stderr = refused("mosaic", "look.lines_per_cell=3");
     assert!(
         stderr.contains("look.lines_per_cell is not read by the mosaic look (only by hatch")
             && stderr.contains("the mosaic look reads look.kind"),

@@ -70,10 +70,12 @@ fn named<T>(
 
 /// `value`, or `default` when the preset leaves it out, checked against the range the schema
 /// declares for `key` ([`schema::range`]): NaN and values outside are errors naming the key,
-/// the value and the range (a preset's numbers are never clamped in silence).
+/// the value and the range (a preset's numbers are never clamped in silence). A key the schema
+/// does not declare as a number is an error too, so no key goes unchecked.
 fn ranged<T: Number>(key: &str, value: Option<T>, default: T) -> Result<T> {
     let v = value.unwrap_or(default);
-    let (lo, hi) = schema::range(key);
+    let (lo, hi) = schema::range(key)
+        .ok_or_else(|| Error::param(key, "not a numeric key of the preset schema"))?;
     if lo <= v.as_f64() && v.as_f64() <= hi {
         Ok(v)
     } else {

@@ -432,7 +432,6 @@ pub fn apply_sets(preset: &mut Preset, sets: &[String]) -> Result<()> {
 pub fn merge(base: PresetFile, over: PresetFile) -> Result<PresetFile> {
     let old_kind = base.look_kind().to_string();
     let mut merged = table(&base)?;
-    merged.remove("extends");
     match &over.look.kind {
         Some(kind) if old_kind != *kind => {
             for (section, keys) in merged.iter_mut() {

@@ -263,15 +263,16 @@ pub fn key_at(path: &str) -> Option<&'static Key> {
     KEYS.iter().find(|k| k.path == path)
 }
 
-/// The range of the numeric key at `path`, as `f64`; `(−∞, ∞)` for any other.
+/// The range of the numeric key at `path`, as `f64`; `None` for a key that is not numeric or
+/// not in the schema.
 #[must_use]
-pub fn range(path: &str) -> (f64, f64) {
-    match key_at(path).map(|k| k.value) {
-        Some(Value::Number { min, max }) => (min, max),
-        Some(Value::Positive { max }) => (f64::MIN_POSITIVE, max),
+pub fn range(path: &str) -> Option<(f64, f64)> {
+    match key_at(path)?.value {
+        Value::Number { min, max } => Some((min, max)),
+        Value::Positive { max } => Some((f64::MIN_POSITIVE, max)),
         // Integer bounds as f64: exact up to 2⁵³, and the seed's whole range is allowed.
-        Some(Value::Integer { min, max }) => (min as f64, max as f64),
-        _ => (f64::NEG_INFINITY, f64::INFINITY),
+        Value::Integer { min, max } => Some((min as f64, max as f64)),
+        _ => None,
     }
 }
 
